@@ -1,0 +1,27 @@
+# Two commands do all set-up on a fresh machine with only python3:
+#   make run   - create .venv, install, run the main job (see README)
+#   make test  - create .venv, install, run the tests
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+
+.PHONY: run test bench clean
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -e '.[test]'
+	touch $(STAMP)
+
+run: $(STAMP)
+	mkdir -p out
+	$(PY) examples/creep_curves.py
+
+test: $(STAMP)
+	$(PY) -m pytest -q
+
+bench: $(STAMP)
+	$(PY) examples/bench_closed_form.py
+
+clean:
+	rm -rf $(VENV) out dist build *.egg-info

@@ -1,0 +1,24 @@
+"""contact_core: the wheel–rail rolling-contact law (Kalker's theories) behind one interface.
+
+    >>> import contact_core as cc
+    >>> p = cc.hertz(N=100e3, A=1.087, B=1.667, E=210e9, nu=0.28)
+    >>> r = cc.solve("linear", xi=1e-3, eta=0.0, phi=0.0, N=100e3, mu=0.3, a=p.a, b=p.b,
+    ...              G=cc.shear_modulus(210e9, 0.28), nu=0.28)
+
+Units are SI throughout; forces are those of the rail on the wheel in Kalker's convention.
+"""
+from .api import METHODS, make_solver, methods, solve
+from .base import ContactMethod
+from .coefficients import creep_coefficients
+from .effects import ALL_EFFECTS, EFFECT_NAMES, Effects
+from .hertz import (HertzGeometry, HertzPatch, hertz, hertz_from_radii, hertz_geometry,
+                    wheel_rail_curvatures)
+from .material import contact_modulus, shear_modulus
+from .result import ContactResult
+
+__all__ = [
+    "ALL_EFFECTS", "EFFECT_NAMES", "METHODS", "ContactMethod", "ContactResult", "Effects",
+    "HertzGeometry", "HertzPatch", "contact_modulus", "creep_coefficients", "hertz",
+    "hertz_from_radii", "hertz_geometry", "make_solver", "methods", "shear_modulus", "solve",
+    "wheel_rail_curvatures",
+]

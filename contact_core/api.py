@@ -1,0 +1,87 @@
+"""The single entry point ``solve`` and the registry of methods (cf. ``scipy.integrate.solve_ivp``)."""
+from __future__ import annotations
+
+from typing import Any, Iterable
+
+from .base import ContactMethod
+from .effects import Effects, as_effects
+from .johnson_vermeulen import JohnsonVermeulen
+from .linear import LinearTheory
+from .result import ContactResult
+
+#: Registered methods, cheapest to dearest.
+METHODS: dict[str, type[ContactMethod]] = {
+    cls.name: cls for cls in (LinearTheory, JohnsonVermeulen)
+}
+
+_solvers: dict[tuple, ContactMethod] = {}
+
+
+def methods() -> tuple[str, ...]:
+    """Names of the registered methods, cheapest to dearest."""
+    return tuple(METHODS)
+
+
+def make_solver(method: str, effects: Effects | Iterable[str] | None = None,
+                **options: Any) -> ContactMethod:
+    """Construct a method object once, to call its ``step`` many times (e.g. from the FMU)."""
+    try:
+        cls = METHODS[method]
+    except (KeyError, TypeError):
+        raise ValueError(f"method={method!r} is unknown: allowed {list(METHODS)}") from None
+    return cls(as_effects(effects), **options)
+
+
+def _cached_solver(method: str, effects: Any, options: dict[str, Any]) -> ContactMethod:
+    try:
+        key = (method, effects, tuple(sorted(options.items())))
+        solver = _solvers.get(key)
+    except TypeError:  # unhashable option or effects value: no caching
+        return make_solver(method, effects, **options)
+    if solver is None:
+        solver = make_solver(method, effects, **options)
+        if len(_solvers) > 512:
+            _solvers.clear()
+        _solvers[key] = solver
+    return solver
+
+
+def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
+          b: float, G: float, nu: float, effects: Effects | Iterable[str] | None = None,
+          warm_start: ContactResult | None = None, **options: Any) -> ContactResult:
+    """Creep forces and spin moment of one wheel–rail contact.
+
+    Parameters
+    ----------
+    method : str
+        One of :func:`methods`: ``"linear"``, ``"johnson_vermeulen"``, ...
+    xi, eta : float
+        Longitudinal and lateral creepage (dimensionless; seed 002 eq 2: rigid slip / V).
+    phi : float
+        Spin creepage, 1/m.
+    N : float
+        Normal load, N (>= 0; N = 0 gives zero forces: wheel lifted).
+    mu : float
+        Coefficient of friction (>= 0).
+    a, b : float
+        Contact-ellipse semi-axes, m: ``a`` along the rolling direction x, ``b`` lateral.
+    G : float
+        Combined shear modulus, Pa.
+    nu : float
+        Combined Poisson's ratio, 0 <= nu < 0.5.
+    effects : Effects or iterable of str, optional
+        Effects to compute (see :mod:`contact_core.effects`); all by default.
+    warm_start : ContactResult, optional
+        A previous result of the same method near this state; iterative methods start from it.
+    **options
+        Passed to the method (e.g. ``variant=`` for Johnson–Vermeulen); unknown ones are an error.
+
+    Returns
+    -------
+    ContactResult
+        ``Fx, Fy`` in N, ``Mz`` in N·m, forces of the rail on the wheel (Kalker's convention:
+        ``Fx = -G c² C11 ξ`` for small ξ, c = √(ab)).
+    """
+    solver = (_solvers.get((method, effects, ())) if not options else None) \
+        or _cached_solver(method, effects, options)
+    return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)

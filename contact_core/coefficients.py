@@ -1,0 +1,131 @@
+"""Kalker's creepage and spin coefficients C11, C22, C23, C33 of linear rolling-contact theory.
+
+Source: J. J. Kalker, *Three-Dimensional Elastic Bodies in Rolling Contact*, Kluwer 1990, Table E.3
+(also Kalker's 1967 thesis, pp. 91-93), shipped as ``data/kalker_coefficients.csv`` (copied from
+``shared/reference``; see the file's header). Definition (seed 002 eqs 17-18, with c = √(ab)):
+
+    Fx = -G c² C11 ξ,   Fy = -G (c² C22 η + c³ C23 φ),   Mz = -G (-c³ C23 η + c⁴ C33 φ).
+
+Interpolation inside the table (0.1 <= a/b <= 10, 0 <= ν <= 0.5): an interpolating bicubic-by-
+quadratic spline (``scipy.interpolate.RectBivariateSpline``, kx=3, ky=2, s=0) of ln C over
+(ln(a/b), ν). It passes through every tabulated value, covers both branches a/b <= 1 and
+b/a <= 1 with one smooth (C²) curve in ln(a/b), and is exactly quadratic in ν between the three
+tabulated Poisson ratios (CONTACT's ``linrol`` is also quadratic in ν, applied to 1/C).
+
+Outside the table, Kalker's asymptotes (Kalker 1990, Table E.3 footnotes; the same formulas are in
+CONTACT's ``m_hertz.f90``, routine ``linrol``) with Λ = ln(16/g²):
+
+* a/b = g -> 0:  C11 = π²/(4(1-ν)),  C22 = π²/4,  C23 = π√g/(3(1-ν)) (1 + ν(ln(16/g) - 5)),
+  C33 = π²/(16(1-ν)g);
+* b/a = g -> 0:  C11 = 2π/((Λ-2ν)g) (1 + (3-ln4)/(Λ-2ν)),
+  C22 = 2π/g (1 + (1-ν)(3-ln4)/((1-ν)Λ+2ν)) / ((1-ν)Λ+2ν),  C23 = 2π/(3g^1.5 ((1-ν)Λ-2+4ν)).
+
+The asymptote is multiplied by a factor that equals table/asymptote at the table's end (g = 0.1)
+and tends linearly in g to 1 as g -> 0, so the coefficients are continuous at the table's edge
+and exact in the limit. Kalker gives no asymptote for C33 as b/a -> 0; the table shows C33 nearly
+flat there (change < 1 % from a/b = 5 to 10 for ν <= 0.25), so for a/b > 10 C33 is held at its
+a/b = 10 value and a ``CoefficientExtrapolationWarning`` is issued (shown once by Python's
+default warning filter).
+Beyond the supported range ``A_OVER_B_RANGE`` a ``ValueError`` is raised.
+"""
+from __future__ import annotations
+
+import csv
+import math
+import warnings
+from functools import lru_cache
+from importlib import resources
+
+import numpy as np
+from scipy.interpolate import RectBivariateSpline
+
+#: Supported range of a/b (table 0.1..10 plus Kalker's asymptotes beyond it).
+A_OVER_B_RANGE: tuple[float, float] = (0.005, 200.0)
+_TABLE_EDGE = 0.1  # g = min(a/b, b/a) at the table's ends
+
+
+class CoefficientExtrapolationWarning(UserWarning):
+    """A coefficient was extended beyond Kalker's table without a published asymptote."""
+
+
+def _load_table() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    text = resources.files(__package__).joinpath("data/kalker_coefficients.csv").read_text()
+    rows = [r for r in csv.reader(line for line in text.splitlines() if not line.startswith("#"))]
+    header, body = rows[0], np.array(rows[1:], dtype=float)
+    assert header == ["a_over_b", "nu", "C11", "C22", "C23", "C33"], header
+    ratios = np.unique(body[:, 0])
+    nus = np.unique(body[:, 1])
+    coef = np.empty((4, ratios.size, nus.size))
+    for row in body:
+        i = np.searchsorted(ratios, row[0])
+        j = np.searchsorted(nus, row[1])
+        coef[:, i, j] = row[2:]
+    return ratios, nus, coef
+
+
+_RATIOS, _NUS, _TABLE = _load_table()
+_SPLINES = tuple(RectBivariateSpline(np.log(_RATIOS), _NUS, np.log(_TABLE[k]), kx=3, ky=2, s=0)
+                 for k in range(4))
+_LOG_LO, _LOG_HI = math.log(_RATIOS[0]), math.log(_RATIOS[-1])
+
+
+def _table(a_over_b: float, nu: float) -> list[float]:
+    x = math.log(a_over_b)
+    return [math.exp(float(s(x, nu, grid=False))) for s in _SPLINES]
+
+
+def _asymptote_thin_a(g: float, nu: float) -> list[float]:
+    """Kalker's asymptotes for a/b = g -> 0 (contact narrow in the rolling direction)."""
+    return [math.pi ** 2 / (4.0 * (1.0 - nu)),
+            math.pi ** 2 / 4.0,
+            math.pi * math.sqrt(g) / (3.0 * (1.0 - nu)) * (1.0 + nu * (math.log(16.0 / g) - 5.0)),
+            math.pi ** 2 / (16.0 * (1.0 - nu) * g)]
+
+
+def _asymptote_thin_b(g: float, nu: float) -> list[float]:
+    """Kalker's asymptotes for b/a = g -> 0 (C11, C22, C23; none published for C33)."""
+    lam = math.log(16.0 / g ** 2)
+    c11 = 2.0 * math.pi / ((lam - 2.0 * nu) * g) * (1.0 + (3.0 - math.log(4.0)) / (lam - 2.0 * nu))
+    d = (1.0 - nu) * lam + 2.0 * nu
+    c22 = 2.0 * math.pi / g * (1.0 + (1.0 - nu) * (3.0 - math.log(4.0)) / d) / d
+    c23 = 2.0 * math.pi / (3.0 * g ** 1.5 * ((1.0 - nu) * lam - 2.0 + 4.0 * nu))
+    return [c11, c22, c23, float("nan")]
+
+
+def _blend(asym_g: list[float], asym_edge: list[float], table_edge: list[float],
+           g: float) -> list[float]:
+    w = g / _TABLE_EDGE  # 1 at the table's edge, 0 in the limit
+    return [ag * (1.0 + (te / ae - 1.0) * w) for ag, ae, te in zip(asym_g, asym_edge, table_edge)]
+
+
+@lru_cache(maxsize=4096)
+def _coefficients(a_over_b: float, nu: float) -> tuple[float, float, float, float]:
+    x = math.log(a_over_b)
+    if _LOG_LO <= x <= _LOG_HI:
+        c = _table(a_over_b, nu)
+    elif x < _LOG_LO:
+        c = _blend(_asymptote_thin_a(a_over_b, nu), _asymptote_thin_a(_TABLE_EDGE, nu),
+                   _table(_RATIOS[0], nu), a_over_b)
+    else:
+        edge = _table(_RATIOS[-1], nu)
+        c = _blend(_asymptote_thin_b(1.0 / a_over_b, nu), _asymptote_thin_b(_TABLE_EDGE, nu),
+                   edge, 1.0 / a_over_b)
+        c[3] = edge[3]
+        warnings.warn(f"C33 for a/b > {_RATIOS[-1]:g} is held at its tabulated value at "
+                      f"a/b = {_RATIOS[-1]:g} (Kalker gives no asymptote for it)",
+                      CoefficientExtrapolationWarning, stacklevel=3)
+    return (c[0], c[1], c[2], c[3])
+
+
+def creep_coefficients(a_over_b: float, nu: float) -> tuple[float, float, float, float]:
+    """Kalker's coefficients ``(C11, C22, C23, C33)`` for semi-axis ratio a/b and Poisson's ratio ν.
+
+    ``a`` is the semi-axis along the rolling direction. Raises ``ValueError`` outside
+    ``A_OVER_B_RANGE`` or for ν outside [0, 0.5].
+    """
+    lo, hi = A_OVER_B_RANGE
+    if not (math.isfinite(a_over_b) and lo <= a_over_b <= hi):
+        raise ValueError(f"a_over_b={a_over_b!r} is out of range: allowed {lo} <= a/b <= {hi}")
+    if not (0.0 <= nu <= 0.5):
+        raise ValueError(f"nu={nu!r} is out of range: allowed 0 <= nu <= 0.5")
+    return _coefficients(float(a_over_b), float(nu))

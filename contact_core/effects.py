@@ -1,0 +1,79 @@
+"""Effect sets: which parts of the rolling-contact problem a scene needs.
+
+A vehicle-dynamics scene rarely needs the whole contact law. Traction on straight track needs the
+longitudinal force and its saturation only; small-amplitude hunting needs the linear creep forces in
+both directions and spin, but no saturation. An :class:`Effects` value names what is needed, and
+every method computes only that:
+
+``longitudinal``
+    input ξ, output Fx.
+``lateral``
+    input η, output Fy.
+``spin``
+    input φ, output Mz (and φ's contribution to Fy when ``lateral`` is also selected).
+``saturation``
+    Coulomb friction bounds the tractions (|p| ≤ μ p_n). Without it every method returns its own
+    unsaturated limit μ → ∞ (the linear range), which is cheaper, and μ is not used.
+``variable_friction``
+    μ is a time-varying input (FMU only: the core always takes μ per call).
+
+Inputs of an effect that is not selected must be zero (a non-zero value is a ``ValueError``, never
+silently dropped); outputs of an effect that is not selected are reported as 0.0.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from functools import lru_cache
+from typing import Iterable
+
+EFFECT_NAMES: tuple[str, ...] = ("longitudinal", "lateral", "spin", "saturation", "variable_friction")
+
+
+@dataclass(frozen=True)
+class Effects:
+    """The set of effects a computation includes (all by default)."""
+
+    longitudinal: bool = True
+    lateral: bool = True
+    spin: bool = True
+    saturation: bool = True
+    variable_friction: bool = True
+
+    @classmethod
+    def from_names(cls, names: Iterable[str]) -> "Effects":
+        """Build from effect names; an unknown name is a ``ValueError`` listing the allowed ones."""
+        names = tuple(names)
+        unknown = [n for n in names if n not in EFFECT_NAMES]
+        if unknown:
+            raise ValueError(f"effects: unknown effect(s) {unknown}; allowed: {list(EFFECT_NAMES)}")
+        chosen = set(names)
+        if not chosen & {"longitudinal", "lateral", "spin"}:
+            raise ValueError(
+                "effects: select at least one of 'longitudinal', 'lateral', 'spin' "
+                f"(got {sorted(chosen)})")
+        return cls(**{n: (n in chosen) for n in EFFECT_NAMES})
+
+    def names(self) -> tuple[str, ...]:
+        """The selected effect names, in canonical order."""
+        return tuple(f.name for f in fields(self) if getattr(self, f.name))
+
+
+ALL_EFFECTS = Effects()
+
+
+@lru_cache(maxsize=256)
+def _from_hashable(spec: tuple[str, ...] | frozenset | str) -> Effects:
+    if isinstance(spec, str):
+        spec = (spec,)
+    return Effects.from_names(sorted(spec) if isinstance(spec, frozenset) else spec)
+
+
+def as_effects(spec: Effects | Iterable[str] | None) -> Effects:
+    """Normalise ``None`` (all effects), an :class:`Effects`, or an iterable of names."""
+    if spec is None:
+        return ALL_EFFECTS
+    if isinstance(spec, Effects):
+        return spec
+    if isinstance(spec, (tuple, frozenset, str)):
+        return _from_hashable(spec)
+    return _from_hashable(tuple(spec))

@@ -1,0 +1,123 @@
+"""Johnson & Vermeulen's creep-force law (seed 002 sec. 3, eqs 10-13, 19-22).
+
+Johnson & Vermeulen (1964) extended Carter's solution to an elliptic contact with an elliptic
+adhesion area touching the leading edge. With normalised creepages (ξ', η') and τ = |(ξ', η')|:
+
+    F/(μN) = ((1 - τ/3)³ - 1) (ξ', η')/τ    for τ <= 3,     F/(μN) = -(ξ', η')/τ    for τ >= 3.
+
+The seed prints the switch of eq 13 once as τ <= 1 and once as τ <= 3. Continuity of F decides:
+at τ = 3 the cubic gives (1 - 1)³ - 1 = -1, equal to the sliding branch, whereas at τ = 1 it gives
+(2/3)³ - 1 = -0.704 ≠ -1. Also d/dτ (1 - τ/3)³ = 0 at τ = 3, so the switch at 3 is C¹ and the
+force saturates smoothly; τ <= 1 is a misprint.
+
+Two normalisations (option ``variant``):
+
+``"kalker"`` (default)
+    eq 22: ξ' = ab G C11 ξ/(μN), η' = ab G C22 η/(μN) with Kalker's coefficients, so the slope at
+    the origin equals linear theory (for small τ the cubic is -τ).
+``"original"``
+    eq 12: ξ' = π ab G ξ/(μN Φ), η' = π ab G η/(μN ψ1), with Φ, ψ1 from the complete elliptic
+    integrals B, C, D of eq 10 (eq 11a for a <= b, 11b for a >= b); i.e. C11^JV = π/Φ and
+    C22^JV = π/ψ1 (eq 19; seed 002 Table 1 lists them for ν = 1/4).
+
+Johnson–Vermeulen has no spin. Option ``spin``:
+
+``"she"`` (default)
+    the Shen–Hedrick–Elkins combination (Shen, Hedrick & Elkins, *A comparison of alternative
+    creep-force models for rail vehicle dynamic analysis*, Proc. 8th IAVSD Symposium, 1983):
+    compute the linear forces including the spin term c³ C23 φ of Fy (and the linear spin moment),
+    then scale all of them by ε = F_JV(τ)/(μN τ) where τ = |F_linear|/(μN) and F_JV is the cubic
+    above. For φ = 0 and ``variant="kalker"`` this is exactly eqs 13 and 22. With
+    ``variant="original"`` the linear force uses C11^JV, C22^JV and Kalker's C23, C33.
+``"ignore"``
+    the strict original: φ is ignored and Mz = 0 (the theory has no spin moment).
+
+``slip_fraction`` is that of the Johnson–Vermeulen picture (seed 002 fig. 6; Johnson 1958, seed
+001): the adhesion area is an ellipse similar to the contact ellipse, scaled by 1 - τ/3, so the
+slip fraction is 1 - (1 - τ/3)² (1 for τ >= 3).
+
+The elliptic integrals of eq 10 (k² = m) are evaluated with Carlson's symmetric integrals
+(DLMF 19.25.1): D = (K - E)/m = R_D(0, 1-m, 1)/3, B = K - D with K = R_F(0, 1-m, 1), and
+C = (D - B)/m (integrate d/dθ[sinθ cosθ/Δ] over [0, π/2]); C -> π/16 for m -> 0.
+"""
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+from scipy.special import elliprd, elliprf
+
+from .base import ContactMethod
+from .coefficients import creep_coefficients
+from .result import make_result
+
+
+def elliptic_bcd(m: float) -> tuple[float, float, float]:
+    """The complete elliptic integrals (B, C, D) of seed 002 eq 10 for parameter m = k² in [0, 1)."""
+    if m < 1e-9:  # C = (D - B)/m cancels; first-order series, error O(m²)
+        return math.pi / 4 * (1 + m / 8), math.pi / 16 * (1 + 0.75 * m), math.pi / 4 * (1 + 3 * m / 8)
+    rd = float(elliprd(0.0, 1.0 - m, 1.0))
+    d = rd / 3.0
+    bb = float(elliprf(0.0, 1.0 - m, 1.0)) - d
+    return bb, (d - bb) / m, d
+
+
+@lru_cache(maxsize=1024)
+def jv_creep_coefficients(a_over_b: float, nu: float) -> tuple[float, float]:
+    """Johnson–Vermeulen's creepage coefficients (C11^JV, C22^JV) = (π/Φ, π/ψ1), seed 002 eqs 11, 19."""
+    r = a_over_b
+    if r <= 1.0:  # eq 11a
+        bb, cc, dd = elliptic_bcd(1.0 - r * r)
+        big_phi = bb - nu * (dd - cc)
+        psi1 = bb - nu * r * r * cc
+    else:  # eq 11b
+        bb, cc, dd = elliptic_bcd(1.0 - 1.0 / (r * r))
+        big_phi = (dd - nu * (dd - cc)) / r
+        psi1 = (dd - nu * cc) / r
+    return math.pi / big_phi, math.pi / psi1
+
+
+VARIANTS = ("kalker", "original")
+SPIN_MODES = ("she", "ignore")
+
+
+class JohnsonVermeulen(ContactMethod):
+    """Johnson–Vermeulen's saturating creep-force law, with spin added the Shen–Hedrick–Elkins way."""
+
+    name = "johnson_vermeulen"
+    code = 2
+    default_options = {"variant": "kalker", "spin": "she"}
+
+    def _check_options(self) -> None:
+        if self.options["variant"] not in VARIANTS:
+            raise ValueError(f"variant={self.options['variant']!r} is invalid: allowed {VARIANTS}")
+        if self.options["spin"] not in SPIN_MODES:
+            raise ValueError(f"spin={self.options['spin']!r} is invalid: allowed {SPIN_MODES}")
+        self._original = self.options["variant"] == "original"
+        self._use_spin = self.options["spin"] == "she"
+
+    def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
+        r = a / b
+        c11, c22, c23, c33 = creep_coefficients(r, nu)
+        if self._original:
+            c11, c22 = jv_creep_coefficients(r, nu)
+        if not self._use_spin:
+            phi = 0.0
+        c2 = a * b
+        c = math.sqrt(c2)
+        fx = -G * c2 * c11 * xi
+        fy = -G * (c2 * c22 * eta + c2 * c * c23 * phi)
+        mz = -G * c2 * c * (-c23 * eta + c * c33 * phi) if self._use_spin else 0.0
+        eps, slip = 1.0, 0.0
+        if self.effects.saturation:
+            tau = math.hypot(fx, fy) / (mu * N)
+            if tau >= 3.0:
+                eps, slip = 1.0 / tau, 1.0
+            elif tau > 0.0:
+                s = 1.0 - tau / 3.0
+                eps, slip = (1.0 - s * s * s) / tau, 1.0 - s * s
+        eff = self.effects
+        return make_result(eps * fx if eff.longitudinal else 0.0,
+                             eps * fy if eff.lateral else 0.0,
+                             eps * mz if eff.spin else 0.0,
+                             self.name, slip)
