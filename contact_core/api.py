@@ -5,13 +5,14 @@ from typing import Any, Iterable
 
 from .base import ContactMethod
 from .effects import Effects, as_effects
+from .fastsim import Fastsim
 from .johnson_vermeulen import JohnsonVermeulen
 from .linear import LinearTheory
 from .result import ContactResult
 
 #: Registered methods, cheapest to dearest.
 METHODS: dict[str, type[ContactMethod]] = {
-    cls.name: cls for cls in (LinearTheory, JohnsonVermeulen)
+    cls.name: cls for cls in (LinearTheory, JohnsonVermeulen, Fastsim)
 }
 
 _solvers: dict[tuple, ContactMethod] = {}
@@ -34,7 +35,7 @@ def make_solver(method: str, effects: Effects | Iterable[str] | None = None,
 
 def _cached_solver(method: str, effects: Any, options: dict[str, Any]) -> ContactMethod:
     try:
-        key = (method, effects, tuple(sorted(options.items())))
+        key = (method, effects, tuple(options.items()))
         solver = _solvers.get(key)
     except TypeError:  # unhashable option or effects value: no caching
         return make_solver(method, effects, **options)

@@ -1,0 +1,327 @@
+"""Kalker's FASTSIM: the simplified theory of rolling contact, solved strip by strip.
+
+Simplified theory (seed 002 sec. 5, eqs 34-36) replaces the elastic half-space by a bed of
+independent springs: the tangential displacement is u = L p (eq 34), with a flexibility L (m/Pa)
+and the traction p bounded by |p| <= g = μ p_n (Coulomb). In steady rolling the slip is
+ẇ = V[(ξ - φy, η + φx) - ∂u/∂x] (eq 35); in the stick zone ẇ = 0, in the slip zone p = -g ẇ/|ẇ|
+(eq 36). FASTSIM (Kalker 1979/80; J. J. Kalker, *A fast algorithm for the simplified theory of
+rolling contact*, Vehicle System Dynamics 11 (1982) 1-13) follows the particles from the leading
+edge x = +a(y) of each strip y = const. to its trailing edge x = -a(y), and per step τ > 0
+(seed 002 eq 38):
+
+    p_H(x) = p(x + τ) - (1/L) ∫_x^{x+τ} (ξ - φy, η + φx') dx'
+           = p(x + τ) - (τ/L) (ξ - φy, η + φ(x + τ/2)),
+    p(x)   = p_H                if |p_H| <= g(x)   (stick)
+           = g(x) p_H / |p_H|   otherwise          (slip: scaled back onto the traction bound).
+
+The rigid-slip integral is exact with the midpoint x + τ/2 (seed 002 eq 37, the stick-zone
+solution ``L_y Y(x) = L_y Y(x0) + [η + φ(x + x0)/2](x - x0)``), so in full stick the marched
+tractions are exactly Kalker's linear simplified solution (seed 002 eq 16) at the grid points.
+Signs: with ξ > 0 the traction (rail on wheel) is negative, as in linear theory
+(``Fx = -G c² C11 ξ``, seed 002 eq 17).
+
+Flexibilities (Kalker 1982; also Kalker 1990, *Three-Dimensional Elastic Bodies in Rolling
+Contact*, sec. 3.3): integrating the stick solution over the ellipse and equating the forces to
+linear theory (seed 002 eq 17) defines one flexibility per creepage,
+
+    L1 = 8a / (3 G C11),   L2 = 8a / (3 G C22),   L3 = π a √(a/b) / (4 G C23),
+
+(check: p_x = -ξ (a(y) - x)/L1 gives Fx = -(8/3) a² b ξ / L1 = -G ab C11 ξ; p_y = -φ(a(y)² - x²)/(2 L3)
+gives Fy = -(π/4) a³ b φ / L3 = -G (ab)^{3/2} C23 φ.) FASTSIM assumes one flexibility for both
+directions, L_x = L_y = L (seed 002 sec. 5, "the fastest method"), and Kalker 1982 combines the
+three into the single weighted flexibility
+
+    L = (L1 |ξ| + L2 |η| + L3 c |φ|) / √(ξ² + η² + c² φ²),   c = √(ab),
+
+which reduces to L1, L2 or L3 exactly for pure ξ, pure η or pure φ (so each of C11, C22, C23 is
+reproduced in its own limit). With only one of ξ, η, φ non-zero this module uses that L_i directly
+(bit-identical results for the reduced effect sets). (CONTACT uses a different blend, ``simpflex``
+in ``m_hertz.f90``, Vollebregt; not used here.)
+
+Traction bound g = μ p_n (option ``bound``):
+
+``"parabolic"`` (default) — Kalker's original FASTSIM: p_n = (2N/(πab)) (1 - x²/a² - y²/b²), the
+    pressure of simplified theory itself (Winkler bed, seed 002 sec. 2, fig. 4). It is the default
+    because it is Kalker's algorithm and the one the published references use: CONTACT's
+    ``tractcurv`` FASTSIM rows (B=3) and the known agreement of simplified theory with the
+    Kalker-normalised Johnson–Vermeulen curve are both for the parabolic bound.
+``"elliptic"`` — the Hertzian pressure p_n = (3N/(2πab)) √(1 - x²/a² - y²/b²), which Vollebregt
+    recommends (E. A. H. Vollebregt & P. Wilders, *FASTSIM2: a second-order accurate frictional
+    rolling contact algorithm*, Comput. Mech. 47 (2011) 105-116; CONTACT user guide, B=2). It
+    saturates faster in creepage than the parabolic bound.
+
+Discretisation (Kalker 1982's strip layout, element-centred): the ellipse is cut into ``ny`` strips
+of equal width 2b/ny with centres y_j = b(-1 + (2j+1)/ny); strip j has half-length
+a_j = a √(1 - y_j²/b²) and ``nx`` elements of length Δx_j = 2a_j/nx, centres
+x_i = a_j - (i + ½) Δx_j (i = 0 .. nx-1, from the leading edge). The march takes a half step
+Δx_j/2 from the leading edge (where p = 0) to the first centre, then full steps Δx_j; the traction
+bound is evaluated at the centres (never on the edge, where it is 0). Forces are midpoint sums,
+F = Σ p ΔA with ΔA = Δx_j · 2b/ny, and the spin moment is Mz = Σ (x p_y - y p_x) ΔA (z-moment about
+the contact centre, same sign convention as linear theory). In full stick the traction is
+exactly linear (ξ, η) or quadratic (φ) in x, so the only discretisation errors are the midpoint
+rules in x and y: the force converges as O(n⁻²) to linear theory (tests check the order).
+The discrete bound is scaled by a constant (depending on nx, ny and the bound only) so that
+Σ p_n ΔA = N exactly; full sliding then gives |F| = μN at any grid, like CONTACT, where the
+discrete pressures carry the load exactly. The correction is O(n⁻²) (0.1 % at 20×20, parabolic).
+
+Known properties of simplified theory (not errors of this code): the spin moment follows from
+the same flexibility, so FASTSIM's Mz differs from linear theory's C33 (for pure spin with
+L = L3: Mz = -(8/15) a² b³ φ / L3, i.e. an effective C33 = 32 C23 (b/a)^{3/2} / (15π), e.g. about
+0.89 C33 at a/b = 1, ν = 0.28, see the tests); and so does FASTSIM's coupling term for Fy/φ vs
+Mz/η (C32 ≠ -C23 in simplified theory).
+
+``fields=True`` returns a :class:`FastsimFields` in ``ContactResult.fields``. ``slip_fraction`` is
+the slipping area over the contact area (of the discrete grid).
+
+Speed: the strip march is one numba kernel (``cache=True``), compiled or loaded from numba's
+cache on first use (``numba`` is imported lazily, so importing ``contact_core`` does not pay for
+it). The no-fields path allocates no arrays.
+"""
+from __future__ import annotations
+
+import math
+import operator
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any, Callable
+
+import numpy as np
+
+from .base import ContactMethod
+from .coefficients import creep_coefficients
+from .result import ContactResult, make_result
+
+#: Allowed range of ``nx`` and ``ny`` (elements per strip, number of strips).
+GRID_RANGE: tuple[int, int] = (1, 2000)
+BOUNDS: tuple[str, ...] = ("parabolic", "elliptic")
+
+# Rows of the fields array the kernel fills when asked.
+_FX, _FY, _FPX, _FPY, _FG, _FSLIP, _FAREA = range(7)
+
+
+def _march(a: float, b: float, xi: float, eta: float, phi: float, inv_l: float, g0: float,
+           elliptic: bool, nx: int, ny: int, do_x: bool, do_y: bool, do_mz: bool,
+           saturate: bool, out: Any) -> tuple[float, float, float, float, float]:
+    """FASTSIM strip march (seed 002 eq 38) on the element-centred strip grid (module docstring).
+
+    Arguments in SI units: semi-axes ``a, b`` (m), creepages ``xi, eta`` (-), spin ``phi`` (1/m),
+    ``inv_l`` = 1/L (Pa/m), ``g0`` = peak of the traction bound μ p_n (Pa, incl. the discrete load
+    normalisation). ``do_x``/``do_y`` march the x/y traction components (the other stays 0),
+    ``do_mz`` accumulates Mz, ``saturate`` applies the traction bound. ``out`` is None or a float
+    array of shape (7, ny, nx) filled with x, y (m), px, py (Pa), bound (Pa), slip (0/1), area (m²).
+
+    Returns (Fx, Fy, Mz, slip area, contact area) in N, N, N·m, m², m².
+    """
+    dy = 2.0 * b / ny
+    fx = 0.0
+    fy = 0.0
+    mz = 0.0
+    a_slip = 0.0
+    a_tot = 0.0
+    inv_a2 = 1.0 / (a * a)
+    for j in range(ny):
+        y = b * (-1.0 + (2.0 * j + 1.0) / ny)
+        s = 1.0 - (y / b) * (y / b)
+        aj = a * math.sqrt(s) if s > 0.0 else 0.0
+        dx = 2.0 * aj / nx
+        da = dx * dy
+        wx = (xi - phi * y) * inv_l          # dp_x/dx in stick (seed 002 eq 37)
+        px = 0.0
+        py = 0.0
+        spx = 0.0
+        spy = 0.0
+        sxpy = 0.0
+        nslip = 0
+        x_prev = aj                           # leading edge
+        h = 0.5 * dx                          # half step to the first element centre
+        for i in range(nx):
+            x = aj - (i + 0.5) * dx
+            if do_x:
+                px -= wx * h
+            if do_y:
+                py -= (eta + phi * (0.5 * (x + x_prev))) * inv_l * h
+            slip = False
+            g = 0.0
+            if saturate or out is not None:
+                q = (aj * aj - x * x) * inv_a2   # 1 - x²/a² - y²/b² at the centre
+                if q < 0.0:
+                    q = 0.0
+                g = g0 * (math.sqrt(q) if elliptic else q)
+            if saturate:
+                n2 = px * px + py * py
+                if n2 > g * g:
+                    f = g / math.sqrt(n2)
+                    px *= f
+                    py *= f
+                    slip = True
+                    nslip += 1
+            spx += px
+            spy += py
+            if do_mz:
+                sxpy += x * py
+            if out is not None:
+                out[0, j, i] = x
+                out[1, j, i] = y
+                out[2, j, i] = px
+                out[3, j, i] = py
+                out[4, j, i] = g
+                out[5, j, i] = 1.0 if slip else 0.0
+                out[6, j, i] = da
+            x_prev = x
+            h = dx
+        fx += spx * da
+        fy += spy * da
+        if do_mz:
+            mz += (sxpy - y * spx) * da
+        a_slip += nslip * da
+        a_tot += nx * da
+    return fx, fy, mz, a_slip, a_tot
+
+
+_KERNEL: Callable | None = None
+
+
+def _kernel() -> Callable:
+    """The numba-compiled :func:`_march` (imports numba on first use; cached on disk)."""
+    global _KERNEL
+    if _KERNEL is None:
+        import numba
+        _KERNEL = numba.njit(cache=True, nogil=True, error_model="numpy")(_march)
+    return _KERNEL
+
+
+@lru_cache(maxsize=64)
+def _bound_normalisation(nx: int, ny: int, elliptic: bool) -> float:
+    """Factor k making the discrete pressure carry the load: k Σ p̂ ΔA = ∫ p̂ dA.
+
+    Computed on the unit circle (a = b = 1): the sums scale with ab like the integrals, so k
+    depends on the grid and the pressure shape only. ∫(1 - r²) dA = π/2, ∫√(1 - r²) dA = 2π/3.
+    """
+    y = -1.0 + (2.0 * np.arange(ny) + 1.0) / ny
+    aj = np.sqrt(np.maximum(1.0 - y * y, 0.0))
+    t = 1.0 - (np.arange(nx) + 0.5) * 2.0 / nx          # x / a_j at the centres
+    q = np.maximum((aj[:, None] ** 2) * (1.0 - t[None, :] ** 2), 0.0)
+    shape = np.sqrt(q) if elliptic else q
+    discrete = float(np.sum(shape * (2.0 * aj[:, None] / nx) * (2.0 / ny)))
+    exact = 2.0 * math.pi / 3.0 if elliptic else math.pi / 2.0
+    return exact / discrete
+
+
+@dataclass(frozen=True)
+class FastsimFields:
+    """Traction maps of one FASTSIM solution, arrays of shape (ny, nx) (strip j, element i).
+
+    Attributes
+    ----------
+    x, y : ndarray
+        Element centres, m (x rolling direction, leading edge at x = +a(y); y lateral).
+    px, py : ndarray
+        Tangential tractions of the rail on the wheel, Pa (same sign convention as the forces).
+    bound : ndarray
+        Traction bound μ p_n at the centres, Pa (incl. the discrete load normalisation); with
+        the ``saturation`` effect off it is reported but not applied.
+    slip : ndarray of bool
+        True where the element slips (|p| = bound), False where it sticks.
+    area : ndarray
+        Element areas, m²: ``Fx == (px * area).sum()`` (up to rounding).
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    px: np.ndarray
+    py: np.ndarray
+    bound: np.ndarray
+    slip: np.ndarray
+    area: np.ndarray
+
+
+class Fastsim(ContactMethod):
+    """Kalker's FASTSIM (simplified theory, strip march; seed 002 sec. 5, Kalker 1982).
+
+    Options
+    -------
+    nx : int, default 20
+        Elements per strip along the rolling direction (1 .. 2000).
+    ny : int, default 20
+        Number of strips across the contact (1 .. 2000).
+    bound : {"parabolic", "elliptic"}, default "parabolic"
+        Traction-bound shape (see the module docstring for the choice of default).
+    fields : bool, default False
+        Return :class:`FastsimFields` (grid, tractions, bound, stick/slip mask, areas).
+
+    The default 20×20 grid costs a few µs per call and is accurate to about 1 % in the forces
+    against the converged FASTSIM solution over the whole creep-force curve (measured in
+    ``tests/test_fastsim.py``: linear-limit error 0.2 % at 20×20, O(n⁻²)); refine for smoother
+    traction maps, coarsen (e.g. 10×10, ~3 %) for speed.
+    """
+
+    name = "fastsim"
+    code = 3
+    default_options = {"nx": 20, "ny": 20, "bound": "parabolic", "fields": False}
+
+    def _check_options(self) -> None:
+        lo, hi = GRID_RANGE
+        for key, what in (("nx", "elements per strip"), ("ny", "number of strips")):
+            v = self.options[key]
+            try:
+                n = operator.index(v)
+            except TypeError:
+                n = None
+            if isinstance(v, bool) or n is None or not (lo <= n <= hi):
+                raise ValueError(f"{key}={v!r} is out of range: allowed an integer "
+                                 f"{lo} <= {key} <= {hi} ({what})")
+            self.options[key] = int(n)
+        if self.options["bound"] not in BOUNDS:
+            raise ValueError(f"bound={self.options['bound']!r} is invalid: allowed {BOUNDS}")
+        if not isinstance(self.options["fields"], (bool, np.bool_)):
+            raise ValueError(f"fields={self.options['fields']!r} is invalid: allowed True or False")
+        self._nx = self.options["nx"]
+        self._ny = self.options["ny"]
+        self._elliptic = self.options["bound"] == "elliptic"
+        self._fields = bool(self.options["fields"])
+        # Peak of p_n per unit N/(ab): 2/π (parabolic) or 3/(2π) (Hertz), times the load
+        # normalisation of the discrete grid.
+        peak = 1.5 / math.pi if self._elliptic else 2.0 / math.pi
+        self._g_factor = peak * _bound_normalisation(self._nx, self._ny, self._elliptic)
+        eff = self.effects
+        self._do_x = bool(eff.longitudinal or eff.spin)
+        self._do_y = bool(eff.lateral or eff.spin)
+        self._do_mz = bool(eff.spin)
+        self._saturate = bool(eff.saturation)
+        self._kern = _kernel()
+
+    def _step_impl(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
+                   b: float, G: float, nu: float,
+                   warm_start: ContactResult | None) -> ContactResult:
+        c11, c22, c23, _ = creep_coefficients(a / b, nu)
+        c = math.sqrt(a * b)
+        # Flexibilities (Kalker 1982), m/Pa, and the single weighted L (module docstring).
+        if eta == 0.0 and phi == 0.0:
+            flex = 8.0 * a / (3.0 * G * c11)
+        elif xi == 0.0 and phi == 0.0:
+            flex = 8.0 * a / (3.0 * G * c22)
+        elif xi == 0.0 and eta == 0.0:
+            flex = math.pi * a * math.sqrt(a / b) / (4.0 * G * c23)
+        else:
+            l1 = 8.0 * a / (3.0 * G * c11)
+            l2 = 8.0 * a / (3.0 * G * c22)
+            l3 = math.pi * a * math.sqrt(a / b) / (4.0 * G * c23)
+            cphi = c * abs(phi)
+            flex = (l1 * abs(xi) + l2 * abs(eta) + l3 * cphi) / math.sqrt(
+                xi * xi + eta * eta + cphi * cphi)
+        g0 = mu * N * self._g_factor / (a * b)
+        nx, ny = self._nx, self._ny
+        out = np.empty((7, ny, nx)) if self._fields else None
+        fx, fy, mz, a_slip, a_tot = self._kern(
+            a, b, xi, eta, phi, 1.0 / flex, g0, self._elliptic, nx, ny,
+            self._do_x, self._do_y, self._do_mz, self._saturate, out)
+        eff = self.effects
+        res = make_result(fx if eff.longitudinal else 0.0,
+                          fy if eff.lateral else 0.0,
+                          mz if eff.spin else 0.0,
+                          self.name, a_slip / a_tot if a_tot > 0.0 else 0.0)
+        if out is not None:
+            res.__dict__["fields"] = FastsimFields(
+                x=out[_FX], y=out[_FY], px=out[_FPX], py=out[_FPY], bound=out[_FG],
+                slip=out[_FSLIP] > 0.5, area=out[_FAREA])
+        return res
