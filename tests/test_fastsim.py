@@ -1,0 +1,373 @@
+"""FASTSIM against independent references: linear theory, Johnson–Vermeulen, analytic full-sliding
+limits and CONTACT's published ``tractcurv`` example (see the module docstring of
+``contact_core.fastsim`` for the method)."""
+from __future__ import annotations
+
+import csv
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import contact_core as cc
+from contact_core.coefficients import CoefficientExtrapolationWarning
+from contact_core.effects import Effects
+
+from conftest import REFERENCE_DIR
+
+G, NU, N, MU = 82e9, 0.28, 100e3, 0.3
+A, B = 6e-3, 4e-3
+NO_SAT = ("longitudinal", "lateral", "spin")  # all effects except saturation: the μ -> ∞ limit
+
+
+def fs(xi=0.0, eta=0.0, phi=0.0, *, a=A, b=B, N=N, mu=MU, G=G, nu=NU, **opts):
+    return cc.solve("fastsim", xi=xi, eta=eta, phi=phi, N=N, mu=mu, a=a, b=b, G=G, nu=nu, **opts)
+
+
+def lin(xi=0.0, eta=0.0, phi=0.0, *, a=A, b=B):
+    return cc.solve("linear", xi=xi, eta=eta, phi=phi, N=N, mu=MU, a=a, b=b, G=G, nu=NU)
+
+
+def observed_order(ns, errors):
+    """Least-squares slope of -log(error) against log(n)."""
+    return -np.polyfit(np.log(ns), np.log(np.abs(errors)), 1)[0]
+
+
+# ----------------------------------------------------------------------------- registry, options
+
+def test_registered_with_code_3():
+    assert "fastsim" in cc.methods()
+    assert cc.METHODS["fastsim"].code == 3
+    names = cc.methods()
+    assert names.index("linear") < names.index("johnson_vermeulen") < names.index("fastsim")
+
+
+@pytest.mark.parametrize("opts, word", [
+    ({"nx": 0}, "nx"), ({"ny": 0}, "ny"), ({"nx": 2.5}, "nx"), ({"ny": True}, "ny"),
+    ({"nx": 10**6}, "nx"), ({"bound": "hertz"}, "bound"), ({"fields": "yes"}, "fields"),
+    ({"mx": 10}, "mx"),
+])
+def test_bad_options_name_the_option(opts, word):
+    with pytest.raises(ValueError, match=word):
+        fs(1e-3, **opts)
+
+
+def test_numpy_integer_grid_accepted():
+    assert fs(1e-3, nx=np.int64(12), ny=np.int32(8)).Fx == fs(1e-3, nx=12, ny=8).Fx
+
+
+# ----------------------------------------------------------------------------- linear-theory limit
+
+@pytest.mark.parametrize("ab", [0.5, 1.0, 3.0])
+def test_linear_limit_and_second_order_convergence(ab):
+    """Fx/ξ, Fy/η, Fy/φ -> -G c² C11, -G c² C22, -G c³ C23 (seed 002 eqs 17-18) as n grows.
+
+    Without saturation (μ -> ∞) FASTSIM is the linear simplified theory; L1..L3 are defined by
+    these limits, so the limit itself must be reached, and the midpoint sums converge as O(n⁻²).
+    """
+    b = A / ab
+    ns = np.array([10, 20, 40, 80])
+    for kw, comp in (({"xi": 1e-4}, "Fx"), ({"eta": 1e-4}, "Fy"), ({"phi": 0.05}, "Fy")):
+        ref = getattr(lin(**kw, b=b), comp)
+        errs = np.array([getattr(fs(**kw, b=b, nx=n, ny=n, effects=NO_SAT), comp) / ref - 1
+                         for n in ns])
+        assert abs(errs[-1]) < 1e-3, (kw, errs)
+        p = observed_order(ns, errs)
+        assert 1.8 < p < 2.3, (kw, errs, p)
+
+
+def test_linear_limit_with_saturation_at_vanishing_creepage():
+    # With Coulomb friction the slip zone vanishes as creepage -> 0 (seed 002 sec. 3), so the same
+    # limit holds with the bound applied.
+    for kw, comp in (({"xi": 1e-7}, "Fx"), ({"eta": 1e-7}, "Fy"), ({"phi": 1e-4}, "Fy")):
+        r = fs(**kw, nx=80, ny=80)
+        assert getattr(r, comp) == pytest.approx(getattr(lin(**kw), comp), rel=1e-3)
+        assert r.slip_fraction < 0.01
+
+
+def test_small_creepage_signs_match_linear_theory_incl_mz():
+    for kw in ({"xi": 1e-6}, {"eta": 1e-6}, {"phi": 1e-3}):
+        r, l = fs(**kw, nx=40, ny=40), lin(**kw)
+        for comp in ("Fx", "Fy", "Mz"):
+            lv = getattr(l, comp)
+            if lv != 0.0:
+                assert math.copysign(1.0, getattr(r, comp)) == math.copysign(1.0, lv), (kw, comp)
+
+
+def test_pure_spin_moment_of_simplified_theory():
+    # Analytic simplified theory for pure spin (seed 002 eq 16 with L = L3, integrated over the
+    # ellipse): p_x = φ y (a(y) - x)/L3, so Mz = -∫ y p_x dA = -(8/15) a² b³ φ / L3, while linear
+    # theory has Mz = -G c⁴ C33 φ. FASTSIM's spin moment is therefore not C33's: at a/b = 1,
+    # ν = 0.28 it is 12 % lower. The fine-grid FASTSIM must reproduce the analytic value.
+    a = b = 6e-3
+    c11, c22, c23, c33 = cc.creep_coefficients(1.0, NU)
+    l3 = math.pi * a * math.sqrt(a / b) / (4 * G * c23)
+    phi = 1e-3
+    r = fs(phi=phi, a=a, b=b, nx=160, ny=160, effects=NO_SAT)
+    assert r.Mz == pytest.approx(-(8 / 15) * a**2 * b**3 * phi / l3, rel=2e-3)
+    ratio = r.Mz / lin(phi=phi, a=a, b=b).Mz
+    assert 0.85 < ratio < 0.90
+
+
+# ----------------------------------------------------------------------------- Johnson–Vermeulen
+
+@pytest.mark.parametrize("ab", [0.5, 1.0, 2.0])
+@pytest.mark.parametrize("comp", ["xi", "eta"])
+def test_parabolic_bound_follows_kalker_normalised_jv_within_1p5_percent(ab, comp):
+    """Pure ξ or η, parabolic bound, fine grid: |F_fastsim/F_JV - 1| <= 1.5 % for 0 < τ < 3."""
+    b = A / ab
+    taus = np.linspace(0.05, 2.95, 30)
+    dev = []
+    for tau in taus:
+        c11, c22, *_ = cc.creep_coefficients(ab, NU)
+        creep = tau * MU * N / (G * A * b * (c11 if comp == "xi" else c22))
+        kw = {"xi": 0.0, "eta": 0.0, "phi": 0.0, comp: creep}
+        jv = cc.solve("johnson_vermeulen", **kw, N=N, mu=MU, a=A, b=b, G=G, nu=NU, variant="kalker")
+        r = fs(**kw, b=b, nx=100, ny=100, bound="parabolic")
+        f, fj = (r.Fx, jv.Fx) if comp == "xi" else (r.Fy, jv.Fy)
+        dev.append(f / fj - 1)
+    assert max(abs(d) for d in dev) <= 0.015, dev
+
+
+# ----------------------------------------------------------------------------- full sliding, spin
+
+@pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
+@pytest.mark.parametrize("grid", [(5, 7), (20, 20)])
+def test_full_sliding_gives_mu_n_opposite_creepage(bound, grid):
+    for xi, eta in ((1.0, 0.0), (0.0, -1.0), (0.05, 0.05), (-0.03, 0.04)):
+        r = fs(xi, eta, nx=grid[0], ny=grid[1], bound=bound)
+        assert math.hypot(r.Fx, r.Fy) == pytest.approx(MU * N, rel=1e-12)
+        n = math.hypot(xi, eta)
+        assert r.Fx == pytest.approx(-MU * N * xi / n, abs=1e-9 * N)
+        assert r.Fy == pytest.approx(-MU * N * eta / n, abs=1e-9 * N)
+        assert r.slip_fraction == 1.0
+
+
+@pytest.mark.parametrize("bound, m_full", [
+    ("parabolic", -8 / 15),            # -μ ∫ (2N/πa²)(1 - r²/a²) r dA / (μ N a)
+    ("elliptic", -3 * math.pi / 16),   # -μ ∫ (3N/2πa²) √(1 - r²/a²) r dA / (μ N a)
+])
+def test_pure_spin_force_peaks_and_decays_moment_saturates(bound, m_full):
+    # Seed 000 (fig. 23 discussion): under pure spin |Fy| rises from zero, peaks and decays towards
+    # zero as the spin pole moves to the centre; Mz tends to the full-sliding moment of a rigid
+    # rotation, -μ ∫ p_n r dA (analytic for a circle, a = b).
+    a = b = 6e-3
+    c23 = cc.creep_coefficients(1.0, NU)[2]
+    phi_n = MU * N / (G * a * a * a * c23)     # spin where linear theory reaches μN
+    ks = np.array([0.1, 0.3, 1, 2, 5, 20, 100, 1000, 1e4])
+    res = [fs(phi=k * phi_n, a=a, b=b, nx=60, ny=60, bound=bound) for k in ks]
+    fy = np.array([-r.Fy for r in res]) / (MU * N)
+    mz = np.array([r.Mz for r in res]) / (MU * N * a)
+    assert np.all(fy > 0)
+    k_peak = int(np.argmax(fy))
+    assert 0 < k_peak < len(ks) - 1
+    assert np.all(np.diff(fy[:k_peak + 1]) > 0) and np.all(np.diff(fy[k_peak:]) < 0)
+    assert fy[-1] < 0.05 * fy[k_peak]
+    assert np.all(np.diff(mz) < 0)                      # |Mz| grows monotonically
+    assert mz[-1] == pytest.approx(m_full, rel=5e-3)    # 60x60 grid; saturates at the analytic value
+
+
+# ----------------------------------------------------------------------------- CONTACT tractcurv
+
+def _tractcurv_rows():
+    with open(REFERENCE_DIR / "contact_tractcurv_example.csv", newline="") as f:
+        return [r for r in csv.DictReader(f) if r["solver"] == "fastsim" and r["B_digit"] == "3"
+                and 3e-4 < float(r["CKSI"]) < 3.3e-3]
+
+
+PUBLISHED = (0.2577, 0.4653, 0.6281, 0.7521, 0.8433, 0.9075, 0.9505, 0.9770)  # issue 3
+XIS = tuple(4e-4 * (k + 1) for k in range(8))                                  # 0.04 .. 0.32 %
+# Eurosprinter (CONTACT tractcurv, Polach 2005), SI units
+EURO = dict(N=106.7e3, mu=0.33, a=6.304e-3, b=12.61e-3, G=82e9, nu=0.28)
+
+
+def test_tractcurv_reference_rows():
+    rows = _tractcurv_rows()
+    assert [float(r["CKSI"]) for r in rows] == pytest.approx(XIS)
+    assert [-float(r["FX_over_FSTAT_FN"]) for r in rows] == pytest.approx(PUBLISHED, abs=5e-5)
+    assert {(r["MX"], r["MY"], r["AA_mm"], r["BB_mm"]) for r in rows} == {("48", "44", "6.304",
+                                                                           "12.61")}
+
+
+def _contact_grid_fastsim(mx, my, xis, scale=1.1):
+    """CONTACT's FASTSIM discretisation (as in its tractcurv run), written independently here.
+
+    Rectangular mx × my grid over 1.1 × the ellipse's box, elements whose centre lies inside the
+    ellipse, parabolic pressure at the centres scaled to carry N, one flexibility L1 from CONTACT's
+    own output (FLX1), and per element one full backward step from the previous element (the
+    first element of a row gets a full step from zero): p_i = p_{i-1} - ξ Δx / L1, clipped to the
+    bound. This is a first-order scheme: its error is +1/(number of elements in the row).
+    """
+    a, b, n = 6.304, 12.61, 106.7e3                       # mm, N
+    mu, flx1 = 0.33, 5.491e-5                             # FLX1 in mm³/N from the reference file
+    dx, dy = 2 * a * scale / mx, 2 * b * scale / my
+    xc = -a * scale + (np.arange(mx) + 0.5) * dx
+    yc = -b * scale + (np.arange(my) + 0.5) * dy
+    q = 1 - (xc[None, :] / a) ** 2 - (yc[:, None] / b) ** 2
+    inside = q > 0
+    pn = np.where(inside, q, 0.0)
+    pn *= n / (pn.sum() * dx * dy)
+    out = []
+    for xi in xis:
+        px, fx = np.zeros(my), 0.0
+        for i in range(mx - 1, -1, -1):                   # leading edge at +x
+            px = np.where(inside[:, i], np.maximum(px - xi * dx / flx1, -mu * pn[:, i]), 0.0)
+            fx += px.sum() * dx * dy
+        out.append(-fx / (mu * n))
+    return np.array(out), int(inside.sum())
+
+
+def test_tractcurv_published_values_are_contacts_first_order_grid():
+    # Understanding the reference: CONTACT's 48x44 grid FASTSIM, re-implemented in a few lines,
+    # reproduces the published column to its 4 printed digits, and the element count (NCON).
+    f, ncon = _contact_grid_fastsim(48, 44, XIS)
+    assert ncon == int(_tractcurv_rows()[0]["NCON"])
+    assert f == pytest.approx(PUBLISHED, abs=2e-4)
+
+
+def test_tractcurv_converged_fastsim_equals_refined_contact_scheme():
+    # Refining CONTACT's first-order scheme (Richardson extrapolation of 384x352 and 768x704) and
+    # refining ours must give the same continuum FASTSIM curve.
+    f1, _ = _contact_grid_fastsim(384, 352, XIS)
+    f2, _ = _contact_grid_fastsim(768, 704, XIS)
+    limit = 2 * f2 - f1
+    ours = np.array([-fs(xi, nx=200, ny=200, bound="parabolic", **EURO).Fx / (0.33 * 106.7e3)
+                     for xi in XIS])
+    assert ours == pytest.approx(limit, rel=1.5e-3)
+
+
+# CONTACT's 48 columns over 1.1 × 2a put ~44 elements on the central strip; 44 rows over 1.1 × 2b
+# give ~40 strips: our comparable grid is nx = 44, ny = 40. The published values carry CONTACT's
+# first-order discretisation error (+3.1 % in the slope at the origin: FX/(μN) = 0.007126 at
+# ξ = 1e-5 vs linear theory's 0.006912), which our second-order strip scheme does not have; the
+# two converge to the same curve (test above). At ξ <= 0.20 % the difference exceeds 1 %: kept as
+# a strict expected failure rather than loosening the tolerance.
+_TOO_FAR = "published value includes CONTACT's first-order grid error (> 1 % at small ξ)"
+
+
+@pytest.mark.parametrize("k", [
+    pytest.param(k, marks=pytest.mark.xfail(strict=True, reason=_TOO_FAR)) if k < 5 else k
+    for k in range(8)])
+def test_tractcurv_published_within_1_percent_at_comparable_grid(k):
+    f = -fs(XIS[k], nx=44, ny=40, bound="parabolic", **EURO).Fx / (0.33 * 106.7e3)
+    assert f == pytest.approx(PUBLISHED[k], rel=0.01)
+
+
+# ----------------------------------------------------------------------------- bounds, fields
+
+@pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
+def test_traction_bound_respected_everywhere_and_fields_consistent(bound):
+    for kw in ({"xi": 2e-3}, {"xi": 1e-3, "eta": 5e-4, "phi": 2.0}, {"phi": 20.0},
+               {"xi": -4e-4, "eta": 1e-3, "phi": -1.0}):
+        r = fs(**kw, nx=30, ny=24, bound=bound, fields=True)
+        f = r.fields
+        assert f.px.shape == (24, 30)
+        mag = np.hypot(f.px, f.py)
+        assert np.all(mag <= f.bound * (1 + 1e-12))
+        assert np.allclose(mag[f.slip], f.bound[f.slip], rtol=1e-12)
+        assert (f.px * f.area).sum() == pytest.approx(r.Fx, rel=1e-12, abs=1e-9)
+        assert (f.py * f.area).sum() == pytest.approx(r.Fy, rel=1e-12, abs=1e-9)
+        mz = ((f.x * f.py - f.y * f.px) * f.area).sum()
+        assert mz == pytest.approx(r.Mz, rel=1e-10, abs=1e-12)
+        assert f.area.sum() == pytest.approx(math.pi * A * B, rel=0.01)
+        assert (f.area * f.slip).sum() / f.area.sum() == pytest.approx(r.slip_fraction)
+        # discrete bound carries the load: Σ μ p_n ΔA = μ N
+        assert (f.bound * f.area).sum() == pytest.approx(MU * N, rel=1e-12)
+        # element centres inside the ellipse, leading edge at +x
+        assert np.all((f.x / A) ** 2 + (f.y / B) ** 2 < 1)
+        assert np.all(np.diff(f.x, axis=1) < 0)
+
+
+def test_fields_off_by_default():
+    assert fs(1e-3).fields is None
+
+
+# ----------------------------------------------------------------------------- symmetries
+
+@pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
+def test_symmetries(bound):
+    kw = dict(nx=16, ny=12, bound=bound)
+    for xi, eta, phi in ((1e-3, 4e-4, 1.5), (-3e-4, 1e-3, -4.0), (2e-4, 0.0, 0.0)):
+        r = fs(xi, eta, phi, **kw)
+        m = fs(-xi, -eta, -phi, **kw)          # point reflection: everything changes sign
+        assert (m.Fx, m.Fy, m.Mz) == pytest.approx((-r.Fx, -r.Fy, -r.Mz), rel=1e-12, abs=1e-9)
+        s = fs(xi, -eta, -phi, **kw)           # mirror y -> -y: Fx even, Fy and Mz odd
+        assert (s.Fx, s.Fy, s.Mz) == pytest.approx((r.Fx, -r.Fy, -r.Mz), rel=1e-12, abs=1e-9)
+        assert m.slip_fraction == pytest.approx(r.slip_fraction)
+        assert s.slip_fraction == pytest.approx(r.slip_fraction)
+
+
+def test_pure_xi_gives_no_lateral_force_or_moment():
+    r = fs(1e-3)
+    assert r.Fy == 0.0 and abs(r.Mz) < 1e-12 * abs(r.Fx) * A
+
+
+# ----------------------------------------------------------------------------- robustness
+
+def test_zero_creepage_gives_zero_without_nan():
+    r = fs(0.0, 0.0, 0.0, fields=True)
+    assert (r.Fx, r.Fy, r.Mz, r.slip_fraction) == (0.0, 0.0, 0.0, 0.0)
+    assert not np.isnan(r.fields.px).any()
+
+
+@pytest.mark.parametrize("ab", [0.05, 20.0])
+def test_extreme_ellipses_finite(ab):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoefficientExtrapolationWarning)
+        b = 5e-3 / math.sqrt(ab)
+        a = ab * b
+        for kw in ({"xi": 1e-3}, {"eta": 1e-3, "phi": 1.0}, {"xi": 1e-9}, {"phi": 100.0}):
+            r = fs(**kw, a=a, b=b)
+            assert all(math.isfinite(v) for v in (r.Fx, r.Fy, r.Mz, r.slip_fraction))
+            assert math.hypot(r.Fx, r.Fy) <= MU * N * (1 + 1e-12)
+
+
+@pytest.mark.parametrize("n_load", [1e-300, 1e-12, 1e-3])
+def test_tiny_load_finite_and_bounded(n_load):
+    for kw in ({"xi": 1e-3}, {"xi": 1e-3, "eta": -1e-3, "phi": 2.0}, {"eta": 1e-12}):
+        r = fs(**kw, N=n_load)
+        assert all(math.isfinite(v) for v in (r.Fx, r.Fy, r.Mz, r.slip_fraction))
+        assert math.hypot(r.Fx, r.Fy) <= MU * n_load * (1 + 1e-9)
+
+
+def test_zero_load_and_zero_friction_handled_by_base():
+    assert (fs(1e-3, N=0.0).Fx, fs(1e-3, mu=0.0).Fx) == (0.0, 0.0)
+
+
+# ----------------------------------------------------------------------------- effects
+
+def test_longitudinal_only_is_bit_identical_to_full():
+    for bound in ("parabolic", "elliptic"):
+        for xi in (1e-5, 3e-4, 2e-3, -7e-4):
+            full = fs(xi, bound=bound)
+            only = fs(xi, bound=bound, effects=("longitudinal", "saturation"))
+            assert only.Fx == full.Fx
+            assert (only.Fy, only.Mz) == (0.0, 0.0)
+            assert only.slip_fraction == full.slip_fraction
+
+
+def test_lateral_only_is_bit_identical_to_full():
+    full = fs(eta=6e-4)
+    only = fs(eta=6e-4, effects=("lateral", "saturation"))
+    assert only.Fy == full.Fy and (only.Fx, only.Mz) == (0.0, 0.0)
+
+
+def test_unselected_outputs_are_zero_and_inputs_rejected():
+    r = fs(1e-3, 5e-4, effects=("longitudinal", "lateral", "saturation"))
+    assert r.Mz == 0.0
+    full = fs(1e-3, 5e-4)
+    assert (r.Fx, r.Fy) == (full.Fx, full.Fy)
+    with pytest.raises(ValueError, match="phi"):
+        fs(1e-3, 0.0, 1.0, effects=("longitudinal", "saturation"))
+    s = fs(phi=2.0, effects=("spin",))
+    assert (s.Fx, s.Fy) == (0.0, 0.0) and s.Mz != 0.0
+
+
+def test_without_saturation_nothing_slips_and_mu_is_unused():
+    eff = Effects(saturation=False)
+    r1 = fs(5e-2, 1e-2, 3.0, effects=eff, mu=0.3)
+    r2 = fs(5e-2, 1e-2, 3.0, effects=eff, mu=0.0)
+    assert (r1.Fx, r1.Fy, r1.Mz) == (r2.Fx, r2.Fy, r2.Mz)
+    assert r1.slip_fraction == 0.0
+    assert math.hypot(r1.Fx, r1.Fy) > 10 * MU * N     # unbounded, like linear theory
