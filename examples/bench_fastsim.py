@@ -61,6 +61,8 @@ def main() -> None:
         t_min, t_med = per_call_us("fastsim", calls, nx=nx, ny=ny)
         print(f"{'fastsim':<10} {f'{nx}x{ny}':>7} {t_min:8.2f} {t_med:10.2f} "
               f"{t_min / lin_min:11.1f}")
+    t_min, t_med = per_call_us("fastsim", 1000, nx=20, ny=20, scheme="kalker")
+    print(f"{'fs kalker':<10} {'20x20':>7} {t_min:8.2f} {t_med:10.2f} {t_min / lin_min:11.1f}")
     runs = [first_call_ms() for _ in range(3)]
     imp = min(r[0] for r in runs)
     first = min(r[1] for r in runs)

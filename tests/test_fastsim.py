@@ -46,11 +46,31 @@ def test_registered_with_code_3():
 @pytest.mark.parametrize("opts, word", [
     ({"nx": 0}, "nx"), ({"ny": 0}, "ny"), ({"nx": 2.5}, "nx"), ({"ny": True}, "ny"),
     ({"nx": 10**6}, "nx"), ({"bound": "hertz"}, "bound"), ({"fields": "yes"}, "fields"),
-    ({"mx": 10}, "mx"),
+    ({"mx": 10}, "mx"), ({"scheme": "euler"}, "scheme"), ({"scheme": None}, "scheme"),
+    ({"scheme": "kalker", "nx": 0}, "nx"),
 ])
 def test_bad_options_name_the_option(opts, word):
     with pytest.raises(ValueError, match=word):
         fs(1e-3, **opts)
+
+
+def test_bad_scheme_lists_allowed_values():
+    with pytest.raises(ValueError, match=r"scheme='Kalker'.*'midpoint', 'kalker'"):
+        fs(1e-3, scheme="Kalker")
+
+
+def test_default_scheme_is_midpoint():
+    assert fs(3e-4).Fx == fs(3e-4, scheme="midpoint").Fx != fs(3e-4, scheme="kalker").Fx
+
+
+@pytest.mark.parametrize("scheme", ["midpoint", "kalker"])
+def test_single_element_per_strip_is_fine(scheme):
+    # nx = 1: one centre per strip (bound > 0 there), for both schemes
+    r = fs(1e-4, nx=1, ny=5, scheme=scheme, fields=True)
+    assert math.isfinite(r.Fx) and r.Fx < 0 and r.fields.x.shape == (5, 1)
+    assert np.all(r.fields.x == 0.0) and np.all(r.fields.bound > 0)
+    sliding = fs(1.0, nx=1, ny=5, scheme=scheme)
+    assert sliding.Fx == pytest.approx(-MU * N, rel=1e-12) and sliding.slip_fraction == 1.0
 
 
 def test_numpy_integer_grid_accepted():
@@ -75,6 +95,61 @@ def test_linear_limit_and_second_order_convergence(ab):
         assert abs(errs[-1]) < 1e-3, (kw, errs)
         p = observed_order(ns, errs)
         assert 1.8 < p < 2.3, (kw, errs, p)
+
+
+@pytest.mark.parametrize("ab", [0.5, 1.0, 3.0])
+def test_kalker_scheme_linear_limit_and_first_order_convergence(ab):
+    """Kalker's/CONTACT's scheme (full first step, tractions at the centres): first order, too large.
+
+    The first full step overshoots the distance to the first centre by Δx/2, so in stick every
+    traction is that much too large: without saturation the force is 1 + 1/nx times the integral
+    for pure ξ or η (plus the O(n⁻²) strip rule in y), about 1 + 3/nx for pure spin Fy
+    (stick traction ∝ (a + Δx/2)² - x² instead of a² - x²).
+    """
+    b = A / ab
+    ns = np.array([10, 20, 40, 80])
+    for kw, comp, const in (({"xi": 1e-4}, "Fx", 1.0), ({"eta": 1e-4}, "Fy", 1.0),
+                            ({"phi": 0.05}, "Fy", 3.0)):
+        ref = getattr(lin(**kw, b=b), comp)
+        errs = np.array([getattr(fs(**kw, b=b, nx=n, ny=n, effects=NO_SAT, scheme="kalker"),
+                                 comp) / ref - 1 for n in ns])
+        assert np.all(errs > 0), (kw, errs)
+        assert errs * ns == pytest.approx(const, rel=0.08), (kw, errs)
+        p = observed_order(ns, errs)
+        assert 0.8 < p < 1.2, (kw, errs, p)
+
+
+def test_kalker_scheme_with_bound_at_vanishing_creepage():
+    # The bound is evaluated at the centres (never 0), so at vanishing creepage nothing slips and
+    # the force has the same +1/nx as without saturation (unlike a step-end reading).
+    ref = lin(xi=1e-7).Fx
+    for n in (10, 20, 40, 80):
+        r = fs(1e-7, nx=n, ny=n, scheme="kalker")
+        assert r.Fx / ref - 1 == pytest.approx(1 / n, abs=0.06 / n)
+        assert r.slip_fraction == 0.0
+
+
+def test_schemes_differ_only_in_the_first_step():
+    # Same traction points, bound and areas; for pure ξ in stick the kalker traction is the
+    # midpoint one shifted by the extra half step: p_k = p_m - ξ (Δx/2) / L.
+    kw = dict(nx=12, ny=9, fields=True, effects=NO_SAT)
+    m, k = fs(1e-5, **kw).fields, fs(1e-5, **kw, scheme="kalker").fields
+    for name in ("x", "y", "bound", "area"):
+        assert np.array_equal(getattr(m, name), getattr(k, name)), name
+    # midpoint: p_i = -w (i + ½) Δx, kalker: -w (i + 1) Δx, so the difference is p_m(x_0) = -w Δx/2
+    assert np.allclose(k.px - m.px, m.px[:, :1], rtol=1e-12, atol=0)
+    assert np.all(m.px < 0)
+
+
+def test_both_schemes_converge_to_the_same_solution():
+    # Different discretisations of the same continuum FASTSIM: refined, they agree (the
+    # difference at 800x800 is the kalker scheme's O(1/n) error, well under 0.2 % of μN).
+    for kw in ({"xi": 3e-4}, {"xi": 1e-3, "eta": 5e-4, "phi": 2.0}, {"phi": 20.0},
+               {"eta": 1e-3, "phi": -1.0}):
+        m = fs(**kw, nx=800, ny=800)
+        k = fs(**kw, nx=800, ny=800, scheme="kalker")
+        assert (k.Fx, k.Fy) == pytest.approx((m.Fx, m.Fy), abs=2e-3 * MU * N), kw
+        assert k.Mz == pytest.approx(m.Mz, abs=2e-3 * MU * N * A), kw
 
 
 def test_linear_limit_with_saturation_at_vanishing_creepage():
@@ -132,11 +207,12 @@ def test_parabolic_bound_follows_kalker_normalised_jv_within_1p5_percent(ab, com
 
 # ----------------------------------------------------------------------------- full sliding, spin
 
+@pytest.mark.parametrize("scheme", ["midpoint", "kalker"])
 @pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
 @pytest.mark.parametrize("grid", [(5, 7), (20, 20)])
-def test_full_sliding_gives_mu_n_opposite_creepage(bound, grid):
+def test_full_sliding_gives_mu_n_opposite_creepage(bound, grid, scheme):
     for xi, eta in ((1.0, 0.0), (0.0, -1.0), (0.05, 0.05), (-0.03, 0.04)):
-        r = fs(xi, eta, nx=grid[0], ny=grid[1], bound=bound)
+        r = fs(xi, eta, nx=grid[0], ny=grid[1], bound=bound, scheme=scheme)
         assert math.hypot(r.Fx, r.Fy) == pytest.approx(MU * N, rel=1e-12)
         n = math.hypot(xi, eta)
         assert r.Fx == pytest.approx(-MU * N * xi / n, abs=1e-9 * N)
@@ -190,68 +266,25 @@ def test_tractcurv_reference_rows():
                                                                            "12.61")}
 
 
-def _contact_grid_fastsim(mx, my, xis, scale=1.1):
-    """CONTACT's FASTSIM discretisation (as in its tractcurv run), written independently here.
-
-    Rectangular mx × my grid over 1.1 × the ellipse's box, elements whose centre lies inside the
-    ellipse, parabolic pressure at the centres scaled to carry N, one flexibility L1 from CONTACT's
-    own output (FLX1), and per element one full backward step from the previous element (the
-    first element of a row gets a full step from zero): p_i = p_{i-1} - ξ Δx / L1, clipped to the
-    bound. This is a first-order scheme: its error is +1/(number of elements in the row).
-    """
-    a, b, n = 6.304, 12.61, 106.7e3                       # mm, N
-    mu, flx1 = 0.33, 5.491e-5                             # FLX1 in mm³/N from the reference file
-    dx, dy = 2 * a * scale / mx, 2 * b * scale / my
-    xc = -a * scale + (np.arange(mx) + 0.5) * dx
-    yc = -b * scale + (np.arange(my) + 0.5) * dy
-    q = 1 - (xc[None, :] / a) ** 2 - (yc[:, None] / b) ** 2
-    inside = q > 0
-    pn = np.where(inside, q, 0.0)
-    pn *= n / (pn.sum() * dx * dy)
-    out = []
-    for xi in xis:
-        px, fx = np.zeros(my), 0.0
-        for i in range(mx - 1, -1, -1):                   # leading edge at +x
-            px = np.where(inside[:, i], np.maximum(px - xi * dx / flx1, -mu * pn[:, i]), 0.0)
-            fx += px.sum() * dx * dy
-        out.append(-fx / (mu * n))
-    return np.array(out), int(inside.sum())
-
-
-def test_tractcurv_published_values_are_contacts_first_order_grid():
-    # Understanding the reference: CONTACT's 48x44 grid FASTSIM, re-implemented in a few lines,
-    # reproduces the published column to its 4 printed digits, and the element count (NCON).
-    f, ncon = _contact_grid_fastsim(48, 44, XIS)
-    assert ncon == int(_tractcurv_rows()[0]["NCON"])
-    assert f == pytest.approx(PUBLISHED, abs=2e-4)
-
-
-def test_tractcurv_converged_fastsim_equals_refined_contact_scheme():
-    # Refining CONTACT's first-order scheme (Richardson extrapolation of 384x352 and 768x704) and
-    # refining ours must give the same continuum FASTSIM curve.
-    f1, _ = _contact_grid_fastsim(384, 352, XIS)
-    f2, _ = _contact_grid_fastsim(768, 704, XIS)
-    limit = 2 * f2 - f1
-    ours = np.array([-fs(xi, nx=200, ny=200, bound="parabolic", **EURO).Fx / (0.33 * 106.7e3)
-                     for xi in XIS])
-    assert ours == pytest.approx(limit, rel=1.5e-3)
-
-
 # CONTACT's 48 columns over 1.1 × 2a put ~44 elements on the central strip; 44 rows over 1.1 × 2b
 # give ~40 strips: our comparable grid is nx = 44, ny = 40. The published values carry CONTACT's
-# first-order discretisation error (+3.1 % in the slope at the origin: FX/(μN) = 0.007126 at
-# ξ = 1e-5 vs linear theory's 0.006912), which our second-order strip scheme does not have; the
-# two converge to the same curve (test above). At ξ <= 0.20 % the difference exceeds 1 %: kept as
-# a strict expected failure rather than loosening the tolerance.
-_TOO_FAR = "published value includes CONTACT's first-order grid error (> 1 % at small ξ)"
+# first-order discretisation error (full first step, tractions at the element centres: +1/n in the
+# slope at the origin), which is exactly what scheme="kalker" does.
 
-
-@pytest.mark.parametrize("k", [
-    pytest.param(k, marks=pytest.mark.xfail(strict=True, reason=_TOO_FAR)) if k < 5 else k
-    for k in range(8)])
+@pytest.mark.parametrize("k", range(8))
 def test_tractcurv_published_within_1_percent_at_comparable_grid(k):
-    f = -fs(XIS[k], nx=44, ny=40, bound="parabolic", **EURO).Fx / (0.33 * 106.7e3)
+    f = -fs(XIS[k], nx=44, ny=40, bound="parabolic", scheme="kalker", **EURO).Fx / (0.33 * 106.7e3)
     assert f == pytest.approx(PUBLISHED[k], rel=0.01)
+
+
+def test_tractcurv_converged_schemes_agree():
+    # The default midpoint scheme converges to the same continuum curve: 400x400 midpoint vs the
+    # Richardson-extrapolated kalker curve (2 F(400) - F(200), removing its O(1/n) error).
+    def curve(n, scheme):
+        return np.array([-fs(xi, nx=n, ny=n, bound="parabolic", scheme=scheme, **EURO).Fx
+                         for xi in XIS]) / (0.33 * 106.7e3)
+    kalker = 2 * curve(400, "kalker") - curve(200, "kalker")
+    assert curve(400, "midpoint") == pytest.approx(kalker, rel=2e-4)
 
 
 # ----------------------------------------------------------------------------- bounds, fields
@@ -277,6 +310,25 @@ def test_traction_bound_respected_everywhere_and_fields_consistent(bound):
         # element centres inside the ellipse, leading edge at +x
         assert np.all((f.x / A) ** 2 + (f.y / B) ** 2 < 1)
         assert np.all(np.diff(f.x, axis=1) < 0)
+
+
+@pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
+def test_kalker_scheme_fields_at_centres(bound):
+    r = fs(1e-3, 5e-4, 2.0, nx=30, ny=24, bound=bound, scheme="kalker", fields=True)
+    f = r.fields
+    mag = np.hypot(f.px, f.py)
+    assert np.all(mag <= f.bound * (1 + 1e-12))
+    assert np.allclose(mag[f.slip], f.bound[f.slip], rtol=1e-12)
+    assert (f.px * f.area).sum() == pytest.approx(r.Fx, rel=1e-12, abs=1e-9)
+    assert (f.py * f.area).sum() == pytest.approx(r.Fy, rel=1e-12, abs=1e-9)
+    mz = ((f.x * f.py - f.y * f.px) * f.area).sum()
+    assert mz == pytest.approx(r.Mz, rel=1e-10, abs=1e-12)
+    assert (f.bound * f.area).sum() == pytest.approx(MU * N, rel=1e-12)   # load normalisation
+    aj = A * np.sqrt(1 - (f.y[:, 0] / B) ** 2)
+    i = np.arange(30)
+    assert f.x == pytest.approx(aj[:, None] * (1 - (2 * i[None, :] + 1) / 30), rel=1e-12,
+                                abs=1e-18)                                 # element centres
+    assert np.all(f.bound > 0)
 
 
 def test_fields_off_by_default():
