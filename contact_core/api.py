@@ -5,6 +5,7 @@ from typing import Any, Iterable
 
 from .base import ContactMethod
 from .effects import Effects, as_effects
+from .exact import Exact
 from .fastsim import Fastsim
 from .johnson_vermeulen import JohnsonVermeulen
 from .linear import LinearTheory
@@ -12,7 +13,7 @@ from .result import ContactResult
 
 #: Registered methods, cheapest to dearest.
 METHODS: dict[str, type[ContactMethod]] = {
-    cls.name: cls for cls in (LinearTheory, JohnsonVermeulen, Fastsim)
+    cls.name: cls for cls in (LinearTheory, JohnsonVermeulen, Fastsim, Exact)
 }
 
 _solvers: dict[tuple, ContactMethod] = {}
