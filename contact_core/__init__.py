@@ -15,6 +15,8 @@ from .hertz import (HertzGeometry, HertzPatch, hertz, hertz_from_radii, hertz_ge
                     wheel_rail_curvatures)
 from .material import contact_modulus, shear_modulus
 from .result import ContactResult
+from .scenes import DEFAULT_SCENE, Scene, load_scene, scenes
+from .wheel_rail import WheelRailConfig, WheelRailEvaluator
 
 __all__ = [
     "ALL_EFFECTS", "EFFECT_NAMES", "METHODS", "ContactMethod", "ContactResult", "Effects",
@@ -22,3 +24,4 @@ __all__ = [
     "hertz_from_radii", "hertz_geometry", "make_solver", "methods", "shear_modulus", "solve",
     "wheel_rail_curvatures",
 ]
+__all__ += ["DEFAULT_SCENE", "Scene", "WheelRailConfig", "WheelRailEvaluator", "load_scene", "scenes"]

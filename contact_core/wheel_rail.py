@@ -1,0 +1,173 @@
+"""One wheel–rail contact evaluated step after step: geometry and material fixed, load varying.
+
+This is what the FMU (``fmu_src/``) wraps. A :class:`WheelRailConfig` fixes the method, the effects,
+the material and the radii; :class:`WheelRailEvaluator` validates it once, solves the
+load-independent Hertz problem once (:func:`~contact_core.hertz.hertz_geometry`: the ellipse's
+eccentricity depends on the curvatures only) and constructs the method object once
+(:func:`~contact_core.api.make_solver`). Each :meth:`WheelRailEvaluator.evaluate` then costs one
+``N^{1/3}`` scaling of the patch plus one ``solver.step``: no root-finding, no file access, no
+objects but the method's result.
+
+Wheel lifted: ``N <= 0`` gives zero forces, moment, patch and pressure (the contact is open; a
+negative load is what a vehicle model produces when the wheel leaves the rail), instead of the
+``ValueError`` of :func:`contact_core.solve` for ``N < 0``. Every other input must be finite even
+then. NaN or infinite inputs raise ``ValueError`` naming the input.
+
+Warm start: the evaluator keeps its last result with ``N > 0`` (``WheelRailEvaluator.last``) and
+passes it as ``warm_start`` to the next step, so iterative methods start from the previous solution.
+Closed-form methods ignore it. Outputs therefore equal the chain
+``r_k = solve(..., warm_start=r_{k-1})`` over the loaded steps.
+
+    >>> import contact_core as cc
+    >>> ev = cc.WheelRailEvaluator(cc.WheelRailConfig(method="johnson_vermeulen"))
+    >>> r = ev.evaluate(xi=1e-3, eta=0.0, phi=0.0, N=100e3, mu=0.3)
+    >>> ev.a > 0 and r.Fx < 0
+    True
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+from .api import METHODS, make_solver
+from .base import check_inputs
+from .effects import ALL_EFFECTS, Effects, as_effects
+from .hertz import HertzPatch, hertz_geometry, wheel_rail_curvatures
+from .material import shear_modulus
+from .result import ContactResult, make_result
+
+#: The patch of a lifted wheel (N <= 0).
+LIFTED_PATCH = HertzPatch(0.0, 0.0, 0.0, 0.0)
+_INF = math.inf
+_THIRD = 1.0 / 3.0
+
+
+@dataclass(frozen=True)
+class WheelRailConfig:
+    """Fixed data of one wheel–rail contact (SI units).
+
+    Attributes
+    ----------
+    method : str
+        A registered method (:func:`contact_core.methods`).
+    effects : Effects
+        The effects to compute (a :class:`~contact_core.scenes.Scene`'s ``effects``).
+    mu : float
+        Friction coefficient used when :meth:`WheelRailEvaluator.evaluate` gets none, 0 <= mu < inf.
+    E, nu : float
+        Young's modulus (Pa) and Poisson's ratio of wheel and rail (same material).
+    R_wheel : float
+        Rolling radius, m (0 < R_wheel <= inf).
+    R_wheel_profile : float
+        Transverse radius of the wheel profile, m (negative: concave/hollow; inf: conical tread).
+    R_rail_profile : float
+        Rail-crown radius, m (convex positive).
+    options : mapping
+        Options of the method (its ``default_options`` keys), e.g. ``{"variant": "original"}``.
+    """
+
+    method: str = "johnson_vermeulen"
+    effects: Effects = ALL_EFFECTS
+    mu: float = 0.3
+    E: float = 210e9
+    nu: float = 0.28
+    R_wheel: float = 0.46
+    R_wheel_profile: float = math.inf
+    R_rail_profile: float = 0.3
+    options: Mapping[str, Any] | tuple[tuple[str, Any], ...] = ()
+
+    def __post_init__(self) -> None:
+        # Hashable and order-independent: options are kept as sorted (name, value) pairs.
+        items = self.options.items() if isinstance(self.options, Mapping) else self.options
+        object.__setattr__(self, "options", tuple(sorted(items)))
+        object.__setattr__(self, "effects", as_effects(self.effects))
+
+    def check(self) -> None:
+        """Raise ``ValueError`` naming the first invalid parameter and its allowed range."""
+        if self.method not in METHODS:
+            raise ValueError(f"method={self.method!r} is unknown: allowed {list(METHODS)}")
+        if not (math.isfinite(self.mu) and self.mu >= 0.0):
+            raise ValueError(f"mu={self.mu!r} is out of range: allowed 0 <= mu < inf "
+                             "(friction coefficient)")
+        if not (math.isfinite(self.E) and self.E > 0.0):
+            raise ValueError(f"E={self.E!r} is out of range: allowed 0 < E < inf "
+                             "(Young's modulus, Pa)")
+        if not (0.0 <= self.nu < 0.5):
+            raise ValueError(f"nu={self.nu!r} is out of range: allowed 0 <= nu < 0.5 "
+                             "(Poisson's ratio)")
+        A, B = wheel_rail_curvatures(self.R_wheel, self.R_wheel_profile, self.R_rail_profile)
+        if not (math.isfinite(A) and A > 0.0):
+            raise ValueError(f"R_wheel={self.R_wheel!r} is out of range: allowed 0 < R_wheel < inf")
+        if not (math.isfinite(B) and B > 0.0):
+            raise ValueError(
+                f"R_wheel_profile={self.R_wheel_profile!r}, R_rail_profile={self.R_rail_profile!r} "
+                f"give a transverse relative curvature B={B!r} 1/m: allowed 0 < B < inf, i.e. "
+                "1/R_wheel_profile + 1/R_rail_profile > 0 (a concave wheel profile must be flatter "
+                "than the rail crown)")
+
+
+class WheelRailEvaluator:
+    """Evaluate one contact per simulation step; see the module docstring.
+
+    Attributes after :meth:`evaluate`: ``a``, ``b``, ``p0`` (the step's Hertz semi-axes, m, and
+    maximum pressure, Pa; 0 when lifted), ``last`` (last loaded
+    :class:`~contact_core.result.ContactResult`: the warm start) and ``method_code`` (``code`` of
+    the method that produced the step's result).
+    """
+
+    def __init__(self, config: WheelRailConfig) -> None:
+        config.check()
+        self.config = config
+        A, B = wheel_rail_curvatures(config.R_wheel, config.R_wheel_profile, config.R_rail_profile)
+        try:
+            self.geometry = hertz_geometry(A, B, config.E, config.nu)
+        except ValueError as e:  # the curvature ratio: name the radii it comes from
+            raise ValueError(f"R_wheel, R_wheel_profile, R_rail_profile: {e} (the relative "
+                             f"curvatures A={A!r}, B={B!r} 1/m)") from None
+        self.solver = make_solver(config.method, config.effects, **dict(config.options))
+        self.G = shear_modulus(config.E, config.nu)
+        self.nu = config.nu
+        self.mu = config.mu
+        self.method_code = self._code = METHODS[config.method].code
+        self._name = self.solver.name
+        self._codes = {name: cls.code for name, cls in METHODS.items()}
+        self._ka, self._kb = self.geometry.ka, self.geometry.kb
+        self._lifted = make_result(0.0, 0.0, 0.0, config.method, 0.0)
+        self.a = self.b = self.p0 = 0.0
+        self.last: ContactResult | None = None
+
+    def evaluate(self, xi: float, eta: float, phi: float, N: float,
+                 mu: float | None = None) -> ContactResult:
+        """Forces of one step: creepages ``xi, eta`` (1), spin ``phi`` (1/m), load ``N`` (N),
+        friction ``mu`` (the configuration's when None). ``N <= 0``: zero forces (wheel lifted).
+
+        Also sets ``self.a``, ``self.b`` (m) and ``self.p0`` (Pa) of the step's Hertz patch.
+        """
+        if mu is None:
+            mu = self.mu
+        if 0.0 < N < _INF:
+            # HertzGeometry.patch(N) without building a HertzPatch per step (same arithmetic).
+            s = N ** _THIRD
+            a = self._ka * s
+            b = self._kb * s
+            result = self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last)
+            if not math.isfinite(result.Fx + result.Fy + result.Mz):  # a method's bug, never ours
+                raise FloatingPointError(
+                    f"method {result.method!r} returned non-finite forces (Fx={result.Fx!r}, "
+                    f"Fy={result.Fy!r}, Mz={result.Mz!r}) for xi={xi!r}, eta={eta!r}, phi={phi!r}, "
+                    f"N={N!r}, mu={mu!r}")
+            self.last = result
+            self.a = a
+            self.b = b
+            self.p0 = 3.0 * N / (2.0 * math.pi * a * b)
+            self.method_code = (self._code if result.method is self._name
+                                else self._codes[result.method])
+            return result
+        if -_INF < N <= 0.0:
+            check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
+            self.a = self.b = self.p0 = 0.0
+            self.method_code = self._code
+            return self._lifted
+        raise ValueError(f"N={N!r} is out of range: allowed a finite number (normal load, N; "
+                         "N <= 0 means the wheel is lifted)")

@@ -1,0 +1,312 @@
+"""The FMU's model description: which variables a build exposes, and the XML pythonfmu omits.
+
+Separation of concerns (as in FMPy): this module decides *what* the FMU declares; the slave
+(``wheel_rail_contact.py``) only maps values; ``build_fmu.py`` packs the archive.
+
+Which variables: the build bakes a small JSON file (:data:`BUILD_CONFIG`) into the FMU's resources;
+the slave reads it when instantiated (pythonfmu instantiates it once at build time to write
+modelDescription.xml, and the host at run time: both see the same resources folder), and
+:func:`variables_for` turns the scene's effects into the variable list:
+
+* inputs ``xi`` (longitudinal), ``eta`` (lateral), ``phi`` (spin) of the selected effects, ``N``
+  always, ``mu`` with ``variable_friction``;
+* outputs ``Fx`` (longitudinal), ``Fy`` (lateral), ``Mz`` (spin), and always ``a``, ``b``, ``p0``,
+  ``slip_fraction``, ``method_used``;
+* parameters ``method``, ``mu`` (with ``saturation`` and without ``variable_friction``), ``E``,
+  ``nu``, ``R_wheel``, ``R_wheel_profile``, ``R_rail_profile``, and the numeric/string options of
+  every method registered in :data:`contact_core.METHODS` at build time (grid sizes, tolerances...;
+  an option named by several methods with different defaults becomes ``<method>_<option>``).
+
+XML post-processing (:func:`finalize_model_description`), because pythonfmu 0.7 writes neither units
+nor ``ModelStructure/InitialUnknowns``: adds ``UnitDefinitions`` and each Real's ``unit``;
+rebuilds ``ModelStructure`` with ``Outputs`` (each with its input dependencies) and
+``InitialUnknowns`` (every output has ``initial="calculated"``, FMI 2.0 sec. 2.2.8, so each must be listed; no dependencies
+attribute there = depends on all knowns, i.e. inputs and parameters); writes Real start values
+round-trip exactly (``repr``) with ``INF`` for infinity (xs:double); sets a deterministic GUID and
+drops ``generationDateAndTime`` unless ``SOURCE_DATE_EPOCH`` is set (reproducible builds).
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+from xml.etree.ElementTree import Element, SubElement
+
+#: File name of the build configuration inside the FMU's ``resources/`` folder.
+BUILD_CONFIG = "wheel_rail_contact.json"
+
+#: Units used by the FMU: name -> SI base-unit exponents (FMI 2.0 ``BaseUnit``).
+UNITS: dict[str, dict[str, int]] = {
+    "1": {},
+    "1/m": {"m": -1},
+    "m": {"m": 1},
+    "N": {"kg": 1, "m": 1, "s": -2},
+    "N.m": {"kg": 1, "m": 2, "s": -2},
+    "Pa": {"kg": 1, "m": -1, "s": -2},
+}
+
+
+@dataclass(frozen=True)
+class VarSpec:
+    """One FMU variable. ``type``: Real/Integer/Boolean/String; ``depends``: for outputs, the
+    inputs it depends on; ``option``: (method, option name) for method-option parameters."""
+
+    name: str
+    type: str
+    causality: str
+    variability: str
+    description: str
+    unit: str | None = None
+    start: Any = None
+    initial: str | None = None
+    depends: tuple[str, ...] = ()
+    option: tuple[str, str] | None = None
+
+
+@dataclass(frozen=True)
+class BuildConfig:
+    """What the build baked into the FMU (read back from :data:`BUILD_CONFIG`)."""
+
+    scene: str
+    scene_description: str
+    effects: tuple[str, ...]
+    method: str
+    guid: str
+    parameters: dict[str, Any]
+
+    @classmethod
+    def load(cls, resources: str | os.PathLike) -> "BuildConfig":
+        with open(Path(resources) / BUILD_CONFIG, encoding="utf-8") as f:
+            d = json.load(f)
+        return cls(d["scene"], d.get("scene_description", ""), tuple(d["effects"]), d["method"],
+                   d["guid"], dict(d.get("parameters", {})))
+
+    def to_json(self) -> str:
+        return json.dumps({"scene": self.scene, "scene_description": self.scene_description,
+                           "effects": list(self.effects), "method": self.method,
+                           "guid": self.guid, "parameters": self.parameters},
+                          indent=2, sort_keys=True) + "\n"
+
+
+# ----------------------------------------------------------------------------------------------
+# Which variables
+# ----------------------------------------------------------------------------------------------
+
+#: Physical parameters: name -> (unit, default, description).
+PHYSICAL_PARAMETERS: dict[str, tuple[str, float, str]] = {
+    "E": ("Pa", 210e9, "Young's modulus of wheel and rail (same material), 0 < E < inf"),
+    "nu": ("1", 0.28, "Poisson's ratio of wheel and rail, 0 <= nu < 0.5"),
+    "R_wheel": ("m", 0.46, "Wheel rolling radius (longitudinal curvature), 0 < R_wheel < inf"),
+    "R_wheel_profile": ("m", math.inf, "Transverse radius of the wheel profile at the contact "
+                        "(negative: concave; inf: conical tread)"),
+    "R_rail_profile": ("m", 0.3, "Rail crown radius at the contact (convex positive); "
+                       "1/R_wheel_profile + 1/R_rail_profile > 0"),
+}
+MU_DEFAULT = 0.3
+
+#: Option names never exposed: the FMU does not return traction fields.
+HIDDEN_OPTIONS = frozenset({"fields"})
+
+_TYPES = ((bool, "Boolean"), (int, "Integer"), (float, "Real"), (str, "String"))
+
+
+def _fmi_type(value: Any) -> str | None:
+    for py, fmi in _TYPES:  # bool before int: bool is an int subclass
+        if type(value) is py:
+            return fmi
+    return None
+
+
+def option_parameters(methods: dict[str, type]) -> list[VarSpec]:
+    """Parameters for the options of the registered methods (``contact_core.METHODS``).
+
+    Each option whose default is a bool, int, float or str becomes a parameter named like the
+    option; an option name shared by methods with different types/defaults, or clashing with
+    another variable, becomes ``<method>_<option>``.
+    """
+    by_name: dict[str, list[tuple[str, Any]]] = {}
+    for mname, cls in methods.items():
+        for opt, default in cls.default_options.items():
+            if opt in HIDDEN_OPTIONS or _fmi_type(default) is None:
+                continue
+            by_name.setdefault(opt, []).append((mname, default))
+    reserved = set(_BASE_NAMES) | set(PHYSICAL_PARAMETERS)
+    specs = []
+    for opt, users in by_name.items():
+        shared = len({(type(d), d) for _, d in users}) == 1 and opt not in reserved
+        for mname, default in users:
+            if shared and specs and specs[-1].name == opt:
+                continue  # one parameter serves every method with this option
+            name = opt if shared else f"{mname}_{opt}"
+            owners = ", ".join(repr(m) for m, _ in users) if shared else repr(mname)
+            specs.append(VarSpec(
+                name, _fmi_type(default), "parameter", "fixed",
+                f"Option {opt!r} of method {owners} (see its documentation); default {default!r}",
+                unit="1" if type(default) is float else None, start=default, initial="exact",
+                option=(mname if not shared else "*", opt)))
+    return specs
+
+
+_BASE_NAMES = ("xi", "eta", "phi", "N", "mu", "Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction",
+               "method_used", "method")
+
+
+def variables_for(effects: tuple[str, ...], method: str, methods: dict[str, type],
+                  parameters: dict[str, Any] | None = None) -> list[VarSpec]:
+    """The variables of an FMU built for ``effects`` with default ``method``.
+
+    ``methods`` is the registry (name -> class with ``code`` and ``default_options``);
+    ``parameters`` overrides start values of parameters by name.
+    """
+    eff = set(effects)
+    overrides = dict(parameters or {})
+    inputs: list[VarSpec] = []
+    if "longitudinal" in eff:
+        inputs.append(VarSpec("xi", "Real", "input", "continuous", "Longitudinal creepage: "
+                              "longitudinal rigid slip velocity / rolling speed", "1", 0.0))
+    if "lateral" in eff:
+        inputs.append(VarSpec("eta", "Real", "input", "continuous", "Lateral creepage: "
+                              "lateral rigid slip velocity / rolling speed", "1", 0.0))
+    if "spin" in eff:
+        inputs.append(VarSpec("phi", "Real", "input", "continuous", "Spin creepage: "
+                              "rigid spin angular velocity / rolling speed", "1/m", 0.0))
+    inputs.append(VarSpec("N", "Real", "input", "continuous", "Normal load; N <= 0 means the "
+                          "wheel is lifted: zero forces, moment and patch", "N", 0.0))
+    if "variable_friction" in eff:
+        inputs.append(VarSpec("mu", "Real", "input", "continuous", "Friction coefficient "
+                              "(time-varying), 0 <= mu < inf", "1", MU_DEFAULT))
+    all_in = tuple(v.name for v in inputs)
+
+    outputs: list[VarSpec] = []
+    kw = dict(causality="output", variability="continuous", initial="calculated")
+    if "longitudinal" in eff:
+        outputs.append(VarSpec("Fx", "Real", description="Longitudinal creep force of the rail on "
+                               "the wheel (Kalker's sign convention)", unit="N", depends=all_in,
+                               **kw))
+    if "lateral" in eff:
+        outputs.append(VarSpec("Fy", "Real", description="Lateral creep force of the rail on the "
+                               "wheel (Kalker's sign convention)", unit="N", depends=all_in, **kw))
+    if "spin" in eff:
+        outputs.append(VarSpec("Mz", "Real", description="Spin moment about the contact normal",
+                               unit="N.m", depends=all_in, **kw))
+    outputs += [
+        VarSpec("a", "Real", description="Hertz semi-axis along the rolling direction", unit="m",
+                depends=("N",), **kw),
+        VarSpec("b", "Real", description="Hertz semi-axis across the rolling direction", unit="m",
+                depends=("N",), **kw),
+        VarSpec("p0", "Real", description="Maximum Hertz pressure", unit="Pa", depends=("N",),
+                **kw),
+        VarSpec("slip_fraction", "Real", description="Fraction of the contact area in slip, 0..1",
+                unit="1", depends=all_in, **kw),
+        VarSpec("method_used", "Integer", "output", "discrete", "Code of the method that computed "
+                "the outputs: " + ", ".join(f"{c.code} = {n}" for n, c in methods.items()),
+                initial="calculated"),
+    ]
+
+    params = [VarSpec("method", "String", "parameter", "fixed", "Contact method, one of: "
+                      + ", ".join(methods), start=method, initial="exact")]
+    if "saturation" in eff and "variable_friction" not in eff:
+        params.append(VarSpec("mu", "Real", "parameter", "fixed", "Friction coefficient, "
+                              "0 <= mu < inf", "1", MU_DEFAULT, "exact"))
+    for name, (unit, default, desc) in PHYSICAL_PARAMETERS.items():
+        params.append(VarSpec(name, "Real", "parameter", "fixed", desc, unit, default, "exact"))
+    params += option_parameters(methods)
+
+    specs = inputs + outputs + params
+    known = {v.name for v in params}
+    unknown = sorted(set(overrides) - known)
+    if unknown:
+        raise ValueError(f"parameters: unknown parameter(s) {unknown}; allowed: {sorted(known)}")
+    return [_override(v, overrides) for v in specs]
+
+
+def _override(v: VarSpec, overrides: dict[str, Any]) -> VarSpec:
+    if v.name not in overrides:
+        return v
+    value = overrides[v.name]
+    if v.type == "Real":
+        value = float(value)
+    elif v.type == "Integer":
+        value = int(value)
+    elif v.type == "Boolean":
+        value = bool(value)
+    else:
+        value = str(value)
+    return VarSpec(v.name, v.type, v.causality, v.variability, v.description, v.unit, value,
+                   v.initial, v.depends, v.option)
+
+
+# ----------------------------------------------------------------------------------------------
+# XML post-processing
+# ----------------------------------------------------------------------------------------------
+
+def _format_real(x: float) -> str:
+    if math.isinf(x):
+        return "INF" if x > 0 else "-INF"
+    if math.isnan(x):
+        return "NaN"
+    return repr(float(x))
+
+
+def finalize_model_description(root: Element, specs: list[VarSpec], guid: str,
+                               description: str) -> Element:
+    """Complete pythonfmu's modelDescription (in place): see the module docstring."""
+    root.set("guid", guid)
+    root.set("description", description)
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    if epoch:
+        root.set("generationDateAndTime", datetime.fromtimestamp(int(epoch), timezone.utc)
+                 .strftime("%Y-%m-%dT%H:%M:%SZ"))
+    elif "generationDateAndTime" in root.attrib:
+        del root.attrib["generationDateAndTime"]
+
+    # UnitDefinitions right after CoSimulation (schema order: CoSimulation, UnitDefinitions, ...).
+    used = {v.unit for v in specs if v.unit}
+    units = Element("UnitDefinitions")
+    for name, exps in UNITS.items():
+        if name in used:
+            SubElement(SubElement(units, "Unit", name=name), "BaseUnit",
+                       {k: str(e) for k, e in exps.items()})
+    children = list(root)
+    cs = next(i for i, c in enumerate(children) if c.tag == "CoSimulation")
+    root.insert(cs + 1, units)
+
+    by_name = {v.name: v for v in specs}
+    index: dict[str, int] = {}
+    mv = root.find("ModelVariables")
+    for i, sv in enumerate(mv.findall("ScalarVariable"), start=1):
+        name = sv.get("name")
+        index[name] = i
+        spec = by_name[name]
+        typed = sv.find(spec.type)
+        if spec.unit and spec.type == "Real":
+            typed.set("unit", spec.unit)
+        if spec.type == "Real" and "start" in typed.attrib:
+            typed.set("start", _format_real(float(typed.get("start"))))
+    if set(index) != set(by_name):
+        raise RuntimeError(f"model variables {sorted(index)} differ from the specification "
+                           f"{sorted(by_name)}")
+
+    old = root.find("ModelStructure")
+    if old is not None:
+        root.remove(old)
+    ms = SubElement(root, "ModelStructure")
+    outputs = sorted((index[v.name], v) for v in specs if v.causality == "output")
+    if outputs:
+        out_el = SubElement(ms, "Outputs")
+        for i, v in outputs:
+            deps = sorted(index[d] for d in v.depends)
+            SubElement(out_el, "Unknown", index=str(i),
+                       dependencies=" ".join(map(str, deps)),
+                       dependenciesKind=" ".join("dependent" for _ in deps))
+    initial = sorted(i for i, v in outputs if v.initial in ("approx", "calculated"))
+    initial += sorted(index[v.name] for v in specs if v.causality == "calculatedParameter")
+    if initial:
+        ini_el = SubElement(ms, "InitialUnknowns")
+        for i in sorted(initial):
+            SubElement(ini_el, "Unknown", index=str(i))
+    return root
