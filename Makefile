@@ -16,12 +16,19 @@ $(STAMP): pyproject.toml
 run: $(STAMP)
 	mkdir -p out
 	$(PY) examples/creep_curves.py
+	$(PY) examples/fastsim_traction_map.py
+	$(PY) examples/exact_creep_curves.py
+	$(PY) examples/exact_traction_map.py
+	$(PY) examples/fmu_demo.py
 
 test: $(STAMP)
 	$(PY) -m pytest -q
 
 bench: $(STAMP)
 	$(PY) examples/bench_closed_form.py
+	$(PY) examples/bench_fastsim.py
+	$(PY) examples/bench_exact.py
+	$(PY) examples/bench_fmu.py
 
 clean:
 	rm -rf $(VENV) out dist build *.egg-info
