@@ -15,7 +15,7 @@ from .hertz import (HertzGeometry, HertzPatch, hertz, hertz_from_radii, hertz_ge
                     wheel_rail_curvatures)
 from .material import contact_modulus, shear_modulus
 from .result import ContactResult
-from .scenes import DEFAULT_SCENE, Scene, load_scene, scenes
+from .scene import DEFAULT_SCENE, Scene, load_scene, scenes
 from .wheel_rail import WheelRailConfig, WheelRailEvaluator
 
 __all__ = [

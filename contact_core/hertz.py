@@ -35,6 +35,11 @@ from .material import contact_modulus
 CURVATURE_RATIO_RANGE: tuple[float, float] = (1e-3, 1e3)
 
 
+def max_pressure(N: float, a: float, b: float) -> float:
+    """Hertz's peak pressure p0 = 3N/(2πab), Pa (seed 002 eq 3 at the centre)."""
+    return 3.0 * N / (2.0 * math.pi * a * b)
+
+
 @dataclass(frozen=True)
 class HertzPatch:
     """Hertz contact patch: semi-axes ``a`` (rolling direction x) and ``b`` (lateral y), m;
@@ -66,7 +71,7 @@ class HertzGeometry:
             return HertzPatch(0.0, 0.0, 0.0, 0.0)
         s = N ** (1.0 / 3.0)
         a, b = self.ka * s, self.kb * s
-        return HertzPatch(a, b, 3.0 * N / (2.0 * math.pi * a * b), self.kd * s * s)
+        return HertzPatch(a, b, max_pressure(N, a, b), self.kd * s * s)
 
 
 def _curvature_ratio(g: float) -> float:

@@ -33,7 +33,7 @@ from typing import Any, Mapping
 from .api import METHODS, make_solver
 from .base import check_inputs
 from .effects import ALL_EFFECTS, Effects, as_effects
-from .hertz import HertzPatch, hertz_geometry, wheel_rail_curvatures
+from .hertz import HertzPatch, hertz_geometry, max_pressure, wheel_rail_curvatures
 from .material import shear_modulus
 from .result import ContactResult, make_result
 
@@ -52,7 +52,7 @@ class WheelRailConfig:
     method : str
         A registered method (:func:`contact_core.methods`).
     effects : Effects
-        The effects to compute (a :class:`~contact_core.scenes.Scene`'s ``effects``).
+        The effects to compute (a :class:`~contact_core.scene.Scene`'s ``effects``).
     mu : float
         Friction coefficient used when :meth:`WheelRailEvaluator.evaluate` gets none, 0 <= mu < inf.
     E, nu : float
@@ -160,7 +160,7 @@ class WheelRailEvaluator:
             self.last = result
             self.a = a
             self.b = b
-            self.p0 = 3.0 * N / (2.0 * math.pi * a * b)
+            self.p0 = max_pressure(N, a, b)
             self.method_code = (self._code if result.method is self._name
                                 else self._codes[result.method])
             return result
