@@ -1,0 +1,4 @@
+"""Reference wheelset models (pythonfmu FMUs) coupled to the contact FMU, and their master.
+
+See README.md in this folder.
+"""

@@ -1,0 +1,65 @@
+"""Driven wheelset FMU: rotation about the axle under a drive torque, constant forward speed
+(pythonfmu ``Fmi2Slave``).
+
+The classical traction / adhesion model (Iwnicki (ed.), *Handbook of Railway Vehicle Dynamics*
+(2006), on adhesion and traction; Knothe & Stichel, *Rail Vehicle Dynamics* (2017), on
+longitudinal creepage): a wheelset with cylindrical wheels (λ = 0, so η = φ = 0) on
+straight track, forward speed V held constant by the (much heavier) vehicle, one degree of
+freedom, the angular speed Ω about the axle:
+
+    ξ_L = ξ_R = (V - Ω r0) / V,          I_y dΩ/dt = T - r0 (Fx_L + Fx_R).
+
+Kalker's sign convention (``wheelset_dynamics``): traction T > 0 makes the wheels turn faster than
+they roll (Ω r0 > V), ξ < 0 and Fx > 0 (forward, rail on wheel). Beyond the adhesion limit
+T > μ W r0 the creep forces cannot balance the torque and the wheelset spins up: ξ decreases
+without bound (ξ -> -inf as Ω grows).
+
+Parameters (SI; defaults): V = 20 m/s, r0 = 0.46 m, I_y = 120 kg m² (wheelset with its share of
+the drive), axle load W = 100 kN, initial creepage xi0 = 0 (free rolling). Input: ``torque``
+(N m), held over the communication step (the FMU uses its value at the step's start; a master
+that wants mid-step accuracy for a ramp sets the mid-step value).
+"""
+from __future__ import annotations
+
+try:
+    from wheelset_dynamics import DrivenParams, DrivenWheelset, param_fields
+    from wheelset_fmu_common import WheelsetSlaveBase
+except ImportError:
+    from .wheelset_dynamics import DrivenParams, DrivenWheelset, param_fields
+    from .wheelset_fmu_common import WheelsetSlaveBase
+
+
+class DrivenWheelsetFMU(WheelsetSlaveBase):
+    """Wheelset spinning about its axle under a drive torque (see module docstring)."""
+
+    description = ("Reference driven wheelset on straight track: rotation about the axle under a "
+                   "drive torque, constant forward speed; Iwnicki 2006 (adhesion)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self._declare(param_fields(DrivenParams) + [("xi0", 0.0, "initial creepage, 1")],
+                      extra_inputs=(("torque", "drive torque on the axle, N m"),),
+                      extra_outputs=(("omega", "angular speed about the axle, rad/s"),
+                                     ("xi", "longitudinal creepage (both wheels), 1"),
+                                     ("slip_velocity", "V - Omega r0, m/s"),
+                                     ("adhesion", "(Fx_L + Fx_R) / axle load: used adhesion, 1")))
+
+    def _make_model(self):
+        p = DrivenParams(**{k: v for k, v in self.params().items()
+                            if k in DrivenParams.__dataclass_fields__})
+        return DrivenWheelset(p, omega=p.V * (1.0 - self.xi0) / p.r0)
+
+    def _update_outputs(self):
+        m = self._model
+        c = m.creepages()
+        self._set_contact_outputs(c)
+        self.omega = m.omega
+        self.xi = c["xi_L"]
+        self.slip_velocity = m.p.V - m.omega * m.p.r0
+        load = m.p.axle_load
+        self.adhesion = (self.Fx_L + self.Fx_R) / load if load > 0 else 0.0
+
+    def do_step(self, current_time, step_size):
+        self._model.step(step_size, self.torque, self.Fx_L, self.Fx_R)
+        self._update_outputs()
+        return True
