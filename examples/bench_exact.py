@@ -7,9 +7,14 @@ spin φ = 0.2 /m (φ·√(ab) = 1.8 ‰); combined ξ = 1 ‰, η = 0.5 ‰, φ 
 situation of a co-simulation); "+normal" also solves the normal problem (influence tables of the
 grid cached); "new a/b" also recomputes the influence tables and the folded normal operator
 (they depend on dy/dx, i.e. on a/b); "warm" = warm start
-from the solution at 0.1 % (a co-simulation step) or 1 % smaller creepages. Each timing is
-the minimum over repeats (the machine is shared). Numba compile/cache-load time reported
-separately.
+from the solution at 0.1 % (a co-simulation step) or 1 % smaller creepages, one warm start from
+a cold solution; ratios against the cold solve with cached normal solution ("x cold") and
+against a cold solve of a new load case including the normal problem ("x new").
+"Sequence": ten steps along a creepage ramp of 0.1 % / 1 % per step, each warm-started from
+the previous result, without and with the secant predictor of the warm state (mean ms and
+sweeps per step). "Longitudinal only": effects (longitudinal, saturation), η = φ = 0, solved on
+the half grid (y-mirror symmetry) against the full grid. Each timing is the minimum over
+repeats (the machine is shared). Numba compile/cache-load time reported separately.
 """
 from __future__ import annotations
 
@@ -38,12 +43,36 @@ def _best(fn, repeat: int) -> tuple[float, object]:
     return best * 1e3, out
 
 
+def _sequence(solver, xi: float, eta: float, phi: float) -> dict:
+    """Mean ms and sweeps per step of a warm-started ramp, without / with the secant."""
+    res = {}
+    for step in (1e-3, 1e-2):
+        pair = []
+        for secant in (False, True):
+            exact_solver._SECANT = secant
+            best = math.inf
+            for _ in range(3):
+                r = solver.step(xi, eta, phi, N, MU, A, B, G, NU)
+                t, its = 0.0, 0
+                for k in range(1, 11):
+                    f = 1.0 + k * step
+                    t0 = time.perf_counter()
+                    r = solver.step(xi * f, eta * f, phi * f, N, MU, A, B, G, NU, warm_start=r)
+                    t += time.perf_counter() - t0
+                    its += r.iterations
+                best = min(best, t)
+            pair.append((best * 1e3 / 10, its / 10))
+        exact_solver._SECANT = True
+        res[step] = pair
+    return res
+
+
 def main() -> int:
     t = time.perf_counter()
     cc.solve("exact", xi=1e-3, eta=1e-4, phi=0.1, N=N, mu=MU, a=A, b=B, G=G, nu=NU, mx=8, my=8)
     print(f"first call (numba compile or cache load, influence tables): "
           f"{(time.perf_counter() - t) * 1e3:.0f} ms")
-    rows = []
+    rows, seq = [], []
     for mx, my in ((20, 20), (32, 32), (48, 44)):
         solver = cc.make_solver("exact", mx=mx, my=my)
         repeat = 15 if mx <= 32 else 7
@@ -74,14 +103,47 @@ def main() -> int:
                 warm.append((ms_w, rw.iterations))
             rows.append((f"{mx}x{my}", name, ms_cold, ms_cn, ms_all, r.iterations, warm,
                          r.Fx / (MU * N), r.Fy / (MU * N)))
-    print("warm: started from the solution at creepages 0.1 % / 1 % smaller (same load)")
-    print(f"{'grid':7s} {'case':13s} {'cold ms':>8s} {'+normal':>8s} {'new a/b':>8s} {'sweeps':>6s} "
-          f"{'warm0.1%':>9s} {'x':>5s} {'sw':>3s} {'warm1%':>8s} {'x':>5s} {'sw':>3s}"
-          "  Fx/μN    Fy/μN")
+            if mx != 32:
+                seq.append((f"{mx}x{my}", name, _sequence(solver, xi, eta, phi)))
+    print("warm: one warm start from the cold solution at creepages 0.1 % / 1 % smaller "
+          "(same load)")
+    print(f"{'grid':7s} {'case':13s} {'cold ms':>8s} {'+normal':>8s} {'new a/b':>8s} "
+          f"{'sweeps':>6s} | {'warm0.1%':>8s} {'x cold':>6s} {'x new':>6s} {'sw':>3s} | "
+          f"{'warm1%':>8s} {'x cold':>6s} {'x new':>6s} {'sw':>3s} |  Fx/μN    Fy/μN")
     for g, name, c, cn, ca, it, warm, fx, fy in rows:
         (w1, i1), (w2, i2) = warm
-        print(f"{g:7s} {name:13s} {c:8.2f} {cn:8.2f} {ca:8.2f} {it:6d} {w1:9.2f} {c / w1:5.1f} {i1:3d}"
-              f" {w2:8.2f} {c / w2:5.1f} {i2:3d}  {fx:+.4f} {fy:+.4f}")
+        print(f"{g:7s} {name:13s} {c:8.2f} {cn:8.2f} {ca:8.2f} {it:6d} | {w1:8.2f} {c / w1:6.2f} "
+              f"{cn / w1:6.2f} {i1:3d} | {w2:8.2f} {c / w2:6.2f} {cn / w2:6.2f} {i2:3d} | "
+              f"{fx:+.4f} {fy:+.4f}")
+    print()
+    print("sequence: 10 steps of +0.1 % / +1 % creepage, each warm-started from the previous "
+          "result; mean ms (sweeps) per step, and cold ms / that")
+    print(f"{'grid':7s} {'case':13s} | {'0.1% plain':>15s} {'secant':>15s} {'x cold':>6s} | "
+          f"{'1% plain':>15s} {'secant':>15s} {'x cold':>6s}")
+    cold = {(g, n): c for g, n, c, *_ in rows}
+    for g, name, res in seq:
+        c = cold[(g, name)]
+        cells = []
+        for step in (1e-3, 1e-2):
+            (mp, ip), (ms, isw) = res[step]
+            cells.append(f"{mp:8.2f} ({ip:4.1f}) {ms:8.2f} ({isw:4.1f}) {c / ms:6.2f}")
+        print(f"{g:7s} {name:13s} | {cells[0]} | {cells[1]}")
+    print()
+    print("longitudinal only (effects longitudinal + saturation, η = φ = 0): ms per cold solve "
+          "(cached normal)")
+    print(f"{'grid':7s} {'full grid':>10s} {'half grid':>10s} {'speed-up':>9s} {'rel. dFx':>9s}")
+    for mx, my in ((20, 20), (32, 32), (48, 44), (41, 39)):
+        solver = cc.make_solver("exact", mx=mx, my=my, effects=("longitudinal", "saturation"))
+        args = (1.2e-3, 0.0, 0.0, N, MU, A, B, G, NU)
+        repeat = 15 if mx <= 32 else 7
+        out = []
+        for half in (False, True):
+            exact_solver._HALF = half
+            solver.step(*args)
+            out.append(_best(lambda: solver.step(*args), repeat))
+        exact_solver._HALF = True
+        (mf, rf), (mh, rh) = out
+        print(f"{mx}x{my:<4d} {mf:10.2f} {mh:10.2f} {mf / mh:9.2f} {abs(rh.Fx / rf.Fx - 1):9.1e}")
     return 0
 
 

@@ -377,3 +377,65 @@ def test_registered_and_hertz_option(wheel_rail_case):
     assert r2.Fx == pytest.approx(r1.Fx, rel=0.02)
     s = cc.STICK if hasattr(cc, "STICK") else STICK
     assert s == 1
+
+
+# ------------------------------------------------- half grid (η = φ = 0), secant warm start
+
+@pytest.mark.parametrize("mx, my", [(20, 20), (21, 19), (16, 9)])
+def test_half_grid_equals_full_grid(mx, my, monkeypatch):
+    # η = φ = 0: solved on the rows y >= 0 with folded kernels; the iterates are the full
+    # grid's (same sums, weighted), so the results agree to rounding, odd my included
+    from contact_core.exact import solver as exact_solver
+    a, b = _patch(0.5)
+    kw = dict(xi=1.2e-3, eta=0.0, phi=0.0, N=1e5, mu=0.3, a=a, b=b, G=G, nu=0.28, mx=mx, my=my,
+              fields=True, effects=("longitudinal", "saturation"))
+    half = cc.solve("exact", **kw)
+    monkeypatch.setattr(exact_solver, "_HALF", False)
+    full = cc.solve("exact", **kw)
+    assert half.converged and full.converged and 0 < full.slip_fraction < 1
+    assert half.iterations == full.iterations
+    assert half.Fx == pytest.approx(full.Fx, rel=1e-9)
+    hf, ff = half.fields, full.fields
+    scale = np.abs(ff.px).max()
+    np.testing.assert_allclose(hf.px, ff.px, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(hf.py, ff.py, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_array_equal(hf.status, ff.status)
+    assert np.abs(ff.py).max() > 1e-4 * scale                   # the ν-coupled Y is there
+    # exact mirror symmetry of the returned fields: X even, Y odd in y
+    np.testing.assert_array_equal(hf.px, hf.px[::-1])
+    np.testing.assert_array_equal(hf.py, -hf.py[::-1])
+    _check_fields(half, 0.3)
+    # warm start from a non-symmetric solution (η != 0) still converges to the same
+    monkeypatch.setattr(exact_solver, "_HALF", True)
+    s = cc.make_solver("exact", mx=mx, my=my)
+    prev = s.step(1.2e-3, 3e-4, 0.0, 1e5, 0.3, a, b, G, 0.28)
+    warm = s.step(1.2e-3, 0.0, 0.0, 1e5, 0.3, a, b, G, 0.28, warm_start=prev)
+    assert warm.Fx == pytest.approx(full.Fx, rel=1e-5) and warm.Fy == 0.0
+
+
+def test_secant_warm_start_sequence(wheel_rail_case, monkeypatch):
+    # a ramp of the creepages: the warm state holds the last two solutions and extrapolates
+    from contact_core.exact import solver as exact_solver
+    k = wheel_rail_case
+    solver = cc.make_solver("exact", mx=24, my=24)
+
+    def ramp():
+        r = solver.step(1.0e-3, 5e-4, 0.2, k["N"], k["mu"], k["a"], k["b"], k["G"], k["nu"])
+        its = []
+        for i in range(1, 6):
+            f = 1.0 + 2e-3 * i
+            r = solver.step(1.0e-3 * f, 5e-4 * f, 0.2 * f, k["N"], k["mu"], k["a"], k["b"],
+                            k["G"], k["nu"], warm_start=r)
+            its.append(r.iterations)
+        return r, its
+
+    r_sec, its_sec = ramp()
+    monkeypatch.setattr(exact_solver, "_SECANT", False)
+    r_plain, its_plain = ramp()
+    assert its_sec[0] == its_plain[0]              # first warm start: no secant yet
+    assert sum(its_sec[1:]) * 1.5 <= sum(its_plain[1:])
+    assert r_sec.converged and r_sec.Fx == pytest.approx(r_plain.Fx, rel=1e-5)
+    assert r_sec.Fy == pytest.approx(r_plain.Fy, rel=1e-5)
+    state = pickle.loads(pickle.dumps(r_sec.warm_state))
+    assert all(isinstance(v, (float, str, np.ndarray)) for v in state.values())
+    assert "prev_px" in state

@@ -230,9 +230,9 @@ def _update(ix, iy, wx, wy, px, py, qx, qy, status, bound, cx, cy, omega):
 
 
 @njit(cache=True, boundscheck=False)
-def _coef(ix, iy, status, kxx, kyy):
-    """Diagonal of C = (K(0,0) - K(ix - jx, 0))/π for the element update at (ix, iy)."""
-    my = status.shape[0]
+def _coef(ix, iy, status, kxx, kyy, my):
+    """Diagonal of C = (K(0,0) - K(ix - jx, 0))/π for the element update at (ix, iy)
+    (``my``: rows of the full grid, which index the kernel tables)."""
     mx = status.shape[1]
     jx = ix - 1
     while jx >= 0 and status[iy, jx] == STICK:
@@ -259,16 +259,16 @@ def _sweep(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_hi, e_l
             if act1 and act2:
                 w1x, w1y, w2x, w2y = _slip_pair(ix, iy, iym, mx, my, qx, qy, kxx, kxy, kyy,
                                                 c_lo, c_hi, r_lo, r_hi)
-                c1x, c1y = _coef(ix, iy, status, kxx, kyy)
-                c2x, c2y = _coef(ix, iym, status, kxx, kyy)
+                c1x, c1y = _coef(ix, iy, status, kxx, kyy, my)
+                c2x, c2y = _coef(ix, iym, status, kxx, kyy, my)
             elif act1:
                 w1x, w1y = _slip_at(ix, iy, mx, my, qx, qy, kxx, kxy, kyy, c_lo, c_hi,
                                     r_lo, r_hi)
-                c1x, c1y = _coef(ix, iy, status, kxx, kyy)
+                c1x, c1y = _coef(ix, iy, status, kxx, kyy, my)
             elif act2:
                 w2x, w2y = _slip_at(ix, iym, mx, my, qx, qy, kxx, kxy, kyy, c_lo, c_hi,
                                     r_lo, r_hi)
-                c2x, c2y = _coef(ix, iym, status, kxx, kyy)
+                c2x, c2y = _coef(ix, iym, status, kxx, kyy, my)
             if act1:
                 dif += _update(ix, iy, w1x + sx[iy, ix], w1y + sy[iy, ix], px, py, qx, qy,
                                status, bound, c1x, c1y, omega)
@@ -276,6 +276,96 @@ def _sweep(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_hi, e_l
                 dif += _update(ix, iym, w2x + sx[iym, ix], w2y + sy[iym, ix], px, py, qx,
                                qy, status, bound, c2x, c2y, omega)
     return dif
+
+
+@njit(cache=True, fastmath=True, boundscheck=False)
+def _slip_half(ix, h, mx, qx, qy, fxx, fxy1, fxy2, fyy, c_lo, c_hi, r_lo, r_hi):
+    """Σ_j K(i - j) q_j at element (ix, h) of the half grid, for y-mirror-symmetric q.
+
+    ``fxx .. fyy[h, hj]`` are the folded kernel rows (:func:`folded_tables`): the source row hj
+    and its mirror (qx even, qy odd in y) in one table entry, so each element costs half the
+    multiply-adds of :func:`_slip_at` on the full grid.
+    """
+    wx = 0.0
+    wy = 0.0
+    off = mx - 1 - ix
+    for hj in range(r_lo, r_hi + 1):
+        lo = c_lo[hj]
+        hi = c_hi[hj] + 1
+        if lo >= hi:
+            continue
+        a1 = fxx[h, hj, off + lo:off + hi]
+        a2 = fxy1[h, hj, off + lo:off + hi]
+        a3 = fxy2[h, hj, off + lo:off + hi]
+        a4 = fyy[h, hj, off + lo:off + hi]
+        b1 = qx[hj, lo:hi]
+        b2 = qy[hj, lo:hi]
+        s1 = 0.0
+        s2 = 0.0
+        s3 = 0.0
+        s4 = 0.0
+        for c in range(hi - lo):
+            s1 += a1[c] * b1[c]
+            s2 += a2[c] * b2[c]
+            s3 += a3[c] * b1[c]
+            s4 += a4[c] * b2[c]
+        wx += s1 + s2
+        wy += s3 + s4
+    return wx, wy
+
+
+@njit(cache=True, boundscheck=False)
+def _sweep_half(px, py, qx, qy, status, bound, sx, sy, kxx, kyy, fxx, fxy1, fxy2, fyy,
+                c_lo, c_hi, e_lo, e_hi, r_lo, r_hi, omega, my, wrow):
+    """:func:`_sweep` on the half grid of a y-mirror-symmetric problem (rows ``h`` = full rows
+    ``my - npair + h``, i.e. y >= 0, taken from the centre outwards as the mirror pairs of
+    :func:`_sweep`); returns Σ |Δp|² over the full grid (row weights ``wrow``: 2, or 1 for the
+    centre row of an odd ``my``)."""
+    nh, mx = px.shape
+    dif = 0.0
+    for h in range(nh):
+        for ix in range(e_lo[h], e_hi[h] + 1):
+            if status[h, ix] == EXTERIOR:
+                continue
+            wx, wy = _slip_half(ix, h, mx, qx, qy, fxx, fxy1, fxy2, fyy, c_lo, c_hi,
+                                r_lo, r_hi)
+            cx, cy = _coef(ix, h, status, kxx, kyy, my)
+            dif += wrow[h] * _update(ix, h, wx + sx[h, ix], wy + sy[h, ix], px, py, qx, qy,
+                                     status, bound, cx, cy, omega)
+    return dif
+
+
+def folded_tables(kxx: np.ndarray, kxy: np.ndarray, kyy: np.ndarray, mx: int,
+                  my: int) -> tuple[np.ndarray, ...]:
+    """Kernel tables folded onto the half grid for tractions X even, Y odd in y.
+
+    Half row h is the full row iy = my - npair + h (npair = ceil(my/2), y >= 0); its mirror
+    is my-1-iy. A symmetric traction difference (qx, qy) in half row hj acts on half row h
+    through offsets d = iy - jy and d' = iy - jym (jym the mirror of jy; not added when jy is
+    its own mirror, the centre row of an odd ``my``):
+
+        wx = Σ (Kxx(d) + Kxx(d')) qx + (Kxy(d) - Kxy(d')) qy,
+        wy = Σ (Kxy(d) + Kxy(d')) qx + (Kyy(d) - Kyy(d')) qy.
+
+    Returns ``(Fxx, Fxy1, Fxy2, Fyy)``, each (npair, npair, 2 mx), in the flipped x layout of
+    :mod:`.influence`.
+    """
+    npair = (my + 1) // 2
+    h = np.arange(npair)
+    iy = my - npair + h
+    jy = my - npair + h
+    jym = my - 1 - jy
+    i1 = iy[:, None] - jy[None, :] + my - 1
+    i2 = iy[:, None] - jym[None, :] + my - 1
+    m = (jym != jy).astype(float)[None, :, None]
+    out = tuple(np.ascontiguousarray(t) for t in
+                (kxx[i1] + m * kxx[i2], kxy[i1] - m * kxy[i2], kxy[i1] + m * kxy[i2],
+                 kyy[i1] - m * kyy[i2]))
+    if my % 2 == 1:
+        # centre row: wy = 0 by symmetry (exactly, not only to the rounding of the tables)
+        out[2][0] = 0.0
+        out[3][0] = 0.0
+    return out
 
 
 @njit(cache=True, boundscheck=False)
@@ -356,6 +446,36 @@ def _small_solve(M, r):
 @njit(cache=True, boundscheck=False)
 def solve_steady(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_hi,
                  e_lo, e_hi, tol, maxit, omega, depth=5, aa_start=2):
+    """The steady-rolling problem on the full grid; see :func:`_solve`."""
+    my = px.shape[0]
+    empty = np.zeros((0, 0, 0))
+    return _solve(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, empty, empty, empty,
+                  empty, np.ones(my), my, c_lo, c_hi, e_lo, e_hi, tol, maxit, omega, depth,
+                  aa_start)
+
+
+@njit(cache=True, boundscheck=False)
+def solve_steady_half(px, py, qx, qy, status, bound, sx, sy, kxx, kyy, fxx, fxy1, fxy2, fyy,
+                      my, c_lo, c_hi, e_lo, e_hi, tol, maxit, omega, depth, aa_start):
+    """The y-mirror-symmetric problem (η = φ = 0: X even, Y odd in y) on the half grid.
+
+    Arrays hold the half rows (full rows ``my - npair + h``, y >= 0; ``py`` zero on the centre
+    row of an odd ``my``); ``fxx .. fyy`` from :func:`folded_tables`. Every sum of the full
+    iteration (sweep update, norm, Anderson inner products) is taken with the row weight 2
+    (1 for the centre row), so the iterates are those of :func:`solve_steady` on the full grid
+    from the mirrored start, up to rounding, at about half the multiply-adds per sweep.
+    """
+    nh = px.shape[0]
+    wrow = np.full(nh, 2.0)
+    if my % 2 == 1:
+        wrow[0] = 1.0
+    return _solve(px, py, qx, qy, status, bound, sx, sy, kxx, kxx, kyy, fxx, fxy1, fxy2, fyy,
+                  wrow, my, c_lo, c_hi, e_lo, e_hi, tol, maxit, omega, depth, aa_start)
+
+
+@njit(cache=True, boundscheck=False)
+def _solve(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, fxx, fxy1, fxy2, fyy, wrow,
+           my_full, c_lo, c_hi, e_lo, e_hi, tol, maxit, omega, depth, aa_start):
     """Sweep until the rms update of the tractions is below ``tol`` times their rms.
 
     ``px, py`` (my, mx) tractions/G, updated in place; ``qx, qy`` (my, mx+1) their differences
@@ -382,9 +502,12 @@ def solve_steady(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_h
     is always the output of a plain sweep (feasible, |p| <= μ p_n) and the stopping test is the
     update of that sweep, as without acceleration. Mixing commutes with the y-mirror, so the
     symmetry above is kept.
+    Half grid (:func:`solve_steady_half`): ``fxx`` non-empty, ``my_full`` the full row count,
+    ``wrow`` the row weights of the sums; full grid: ``wrow`` = 1.
     Returns (sweeps, relative rms update of the last sweep).
     """
     my, mx = px.shape
+    half = fxx.shape[0] > 0
     r_lo = my
     r_hi = -1
     n = 0
@@ -397,12 +520,15 @@ def solve_steady(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_h
                 n += 1
     iyc = np.empty(n, np.int64)
     ixc = np.empty(n, np.int64)
+    wel = np.empty(2 * n)
     k = 0
     for iy in range(my):
         for ix in range(mx):
             if status[iy, ix] != EXTERIOR:
                 iyc[k] = iy
                 ixc[k] = ix
+                wel[k] = wrow[iy]
+                wel[n + k] = wrow[iy]
                 k += 1
     m = max(depth, 0)
     xs = np.zeros((m + 1, 2 * n))     # ring buffers: sweep inputs x_j and outputs G(x_j)
@@ -418,12 +544,19 @@ def solve_steady(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_h
         it += 1
         if m > 0:
             _gather(px, py, iyc, ixc, x)
-        dif = _sweep(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_hi,
-                     e_lo, e_hi, r_lo, r_hi, omega)
+        if half:
+            dif = _sweep_half(px, py, qx, qy, status, bound, sx, sy, kxx, kyy, fxx, fxy1,
+                              fxy2, fyy, c_lo, c_hi, e_lo, e_hi, r_lo, r_hi, omega, my_full,
+                              wrow)
+        else:
+            dif = _sweep(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_hi,
+                         e_lo, e_hi, r_lo, r_hi, omega)
         nrm = 0.0
         for iy in range(r_lo, r_hi + 1):
+            r = 0.0
             for ix in range(e_lo[iy], e_hi[iy] + 1):
-                nrm += px[iy, ix] ** 2 + py[iy, ix] ** 2
+                r += px[iy, ix] ** 2 + py[iy, ix] ** 2
+            nrm += wrow[iy] * r
         if nrm > 0.0:
             rel = math.sqrt(dif / nrm)
         else:
@@ -457,10 +590,10 @@ def solve_steady(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_h
                 b = (a + 1) % (m + 1)
                 dfj = (gs[b, i] - xs[b, i]) - (gs[a, i] - xs[a, i])
                 dfv[j] = dfj
-                rhs[j] += dfj * fc
+                rhs[j] += wel[i] * dfj * fc
             for j in range(nd):
                 for l in range(j + 1):
-                    M[j, l] += dfv[j] * dfv[l]
+                    M[j, l] += wel[i] * dfv[j] * dfv[l]
         tr = 0.0
         for j in range(nd):
             for l in range(j):
