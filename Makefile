@@ -20,6 +20,8 @@ run: $(STAMP)
 	$(PY) examples/exact_creep_curves.py
 	$(PY) examples/exact_traction_map.py
 	$(PY) examples/fmu_demo.py
+	$(PY) examples/wheelsets/run_hunting.py
+	$(PY) -m contact_core.bench --out out
 
 test: $(STAMP)
 	$(PY) -m pytest -q

@@ -1,0 +1,211 @@
+"""The converged reference: the exact solver on a sequence of fine grids, extrapolated to h → 0.
+
+Per case the exact solver (:mod:`contact_core.exact`, ``normal="numerical"``, default tolerance)
+runs on square element counts ``m × m`` for every ``m`` of ``grids`` (short form 40, 48, 64, 80;
+full form 40, 48, 64, 80, 96). Its discretisation error is first order in the element size,
+q(m) ≈ q∞ + C/m, overlaid with an irregular part of about 0.05–0.2 % of μN where the stick/slip
+boundary crosses elements (spin cases mostly). Measured while designing this module (|F|/μN on
+m = 48, 64, 96, 128): a/b = 1, η, τ = 0.28: 0.25734, 0.25625, 0.25509, 0.25451, i.e. slopes in
+1/m of 0.209, 0.223, 0.223 (first order); a/b = 5, ξ, τ = 0.96: slopes 0.56, 0.45, 0.51 (first
+order plus scatter); the Mz of a/b = 5 spin τ = 0.59: 1.27, 1.22, 1.21. Grids of 32 and below
+are not yet in that range (slopes about half), so the grids start at 40. Per case and per
+quantity q ∈ {|F|, Mz}:
+
+* **reference** q∞: least-squares fit of q(m) = q∞ + C/m over the grids (Richardson
+  extrapolation with p = 1; a least-squares fit over a wide range of m rather than the two-grid
+  formula, which amplifies the irregular part: 4 q₆₄ - 3 q₄₈ multiplies it by 5);
+* **uncertainty** u: 95 % confidence half-width of q∞, Student t times its standard error, with
+  the scatter about the fit pooled over the cases of the same a/b and kind (a case's own scatter
+  if larger): with four grids a single case has two degrees of freedom only;
+* **two-grid check** d: |q(finest) - q∞|, how far the finest grid alone is from the reference;
+* **converged** if every grid's exact solve converged, u_F <= ``tol_force`` (default 0.5 % of
+  μN) and u_M <= ``tol_moment`` (default 0.5 % of μN·c, c = √(ab)). Cases that fail are listed
+  and excluded from the statistics, never silently used.
+
+Work is split into (case, grid) tasks submitted to any ``concurrent.futures.Executor``-like object
+(``submit`` returning futures usable with ``concurrent.futures.as_completed``): a
+``ProcessPoolExecutor`` by default (``jobs``), or e.g. a Dask ``Client.get_executor()`` for sweeps
+that outgrow one machine. Progress is shown with tqdm.
+"""
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+from typing import Any, Callable, Iterable, Sequence
+
+import numpy as np
+from scipy import stats
+
+from .cases import Case
+
+#: Reference grids (m × m elements) per form of the benchmark.
+REFERENCE_GRIDS: dict[str, tuple[int, ...]] = {
+    "short": (40, 48, 64, 80),
+    "full": (40, 48, 64, 80, 96),
+    "smoke": (16, 20, 24, 32),
+}
+TOL_FORCE = 0.005     # of μN
+TOL_MOMENT = 0.005    # of μN·c
+
+
+@dataclass(frozen=True)
+class Reference:
+    """The reference of one case. ``F``: |F| = √(Fx² + Fy²) in N; ``Mz`` in N·m; ``u_*`` and
+    ``d_*`` (see the module docstring) normalised by μN (force) and μN·c (moment)."""
+
+    case_id: int
+    F: float
+    Mz: float
+    u_F: float
+    u_M: float
+    d_F: float
+    d_M: float
+    grids: tuple[int, ...]
+    F_grid: tuple[float, ...]        # |F| per grid, N
+    Mz_grid: tuple[float, ...]       # Mz per grid, N·m
+    solver_converged: bool
+    converged: bool
+    reason: str                      # why not converged ("" if converged)
+    seconds: float                   # CPU time of all grids of this case
+
+
+def _solve_exact(kwargs: dict[str, float], m: int) -> tuple[float, float, float, bool, float]:
+    """One exact solve on an m × m grid (runs in a worker process)."""
+    from .. import api
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # non-convergence is returned in ``converged``
+        r = api.solve("exact", **kwargs, mx=m, my=m)
+    return r.Fx, r.Fy, r.Mz, bool(r.converged), time.perf_counter() - t0
+
+
+class _Inline(Executor):
+    """An executor that runs each task when submitted (jobs=1; no processes)."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        f: Future = Future()
+        try:
+            f.set_result(fn(*args, **kwargs))
+        except BaseException as e:  # noqa: BLE001 - handed to the caller through the future
+            f.set_exception(e)
+        return f
+
+
+def fit_extrapolation(m: Sequence[int], q: Sequence[float]) -> tuple[float, float, float]:
+    """(q∞, residual sum of squares, v00) of the least-squares fit q(m) = q∞ + C/m;
+    ``v00`` = [(XᵀX)⁻¹]₀₀, so that the standard error of q∞ is √(s² v00)."""
+    x = 1.0 / np.asarray(m, dtype=float)
+    y = np.asarray(q, dtype=float)
+    X = np.column_stack([np.ones(len(x)), x])
+    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+    res = y - X @ coef
+    return float(coef[0]), float(res @ res), float(np.linalg.inv(X.T @ X)[0, 0])
+
+
+def _build(cases: Sequence[Case], grids: tuple[int, ...], sols: Sequence[dict[int, tuple]],
+           tol_force: float, tol_moment: float) -> list[Reference]:
+    n = len(grids)
+    dof1 = n - 2
+    fits = []
+    for c, sol in zip(cases, sols):
+        F = [math.hypot(sol[m][0], sol[m][1]) for m in grids]
+        M = [sol[m][2] for m in grids]
+        fs, ms = c.mu * c.N, c.mu * c.N * c.c
+        fF = fit_extrapolation(grids, [f / fs for f in F])
+        fM = fit_extrapolation(grids, [v / ms for v in M])
+        fits.append((F, M, fF, fM))
+    # scatter pooled per (a/b, kind)
+    pool: dict[tuple, list[float]] = {}
+    for c, (_, _, fF, fM) in zip(cases, fits):
+        acc = pool.setdefault((c.a_over_b, c.kind), [0.0, 0.0, 0])
+        acc[0] += fF[1]
+        acc[1] += fM[1]
+        acc[2] += dof1
+    out = []
+    for c, sol, (F, M, fF, fM) in zip(cases, sols, fits):
+        rssF, rssM, dof = pool[(c.a_over_b, c.kind)]
+        t = float(stats.t.ppf(0.975, dof)) if dof > 0 else math.nan
+        sF = max(rssF / dof, fF[1] / dof1) if dof > 0 else math.nan
+        sM = max(rssM / dof, fM[1] / dof1) if dof > 0 else math.nan
+        uF = t * math.sqrt(sF * fF[2])
+        uM = t * math.sqrt(sM * fM[2])
+        fs, ms = c.mu * c.N, c.mu * c.N * c.c
+        F_inf, M_inf = fF[0] * fs, fM[0] * ms
+        dF, dM = abs(F[-1] / fs - fF[0]), abs(M[-1] / ms - fM[0])
+        solver_ok = all(sol[m][3] for m in grids)
+        reasons = []
+        if not solver_ok:
+            bad = [m for m in grids if not sol[m][3]]
+            reasons.append(f"exact solver not converged on grid(s) {bad}")
+        if not uF <= tol_force:   # also catches NaN
+            reasons.append(f"|F| uncertainty {100 * uF:.2f} % of μN > {100 * tol_force:.2g} %")
+        if not uM <= tol_moment:
+            reasons.append(f"Mz uncertainty {100 * uM:.2f} % of μN·c > {100 * tol_moment:.2g} %")
+        out.append(Reference(c.id, F_inf, M_inf, uF, uM, dF, dM, tuple(grids), tuple(F),
+                             tuple(M), solver_ok, not reasons, "; ".join(reasons),
+                             sum(sol[m][4] for m in grids)))
+    return out
+
+
+def compute_references(cases: Sequence[Case], grids: Iterable[int] = REFERENCE_GRIDS["short"], *,
+                       executor: Executor | None = None, jobs: int = 1,
+                       tol_force: float = TOL_FORCE, tol_moment: float = TOL_MOMENT,
+                       progress: bool = True,
+                       solve_task: Callable[..., tuple] = _solve_exact) -> list[Reference]:
+    """The reference of every case (same order as ``cases``); see the module docstring.
+
+    ``executor``: any object with ``submit`` whose futures work with
+    ``concurrent.futures.as_completed`` (e.g. ``ProcessPoolExecutor``, Dask's
+    ``Client.get_executor()``); if None, a ``ProcessPoolExecutor(jobs)`` for ``jobs > 1``, else
+    the tasks run inline.
+    """
+    from tqdm.auto import tqdm
+
+    grids = tuple(sorted(set(int(m) for m in grids)))
+    if len(grids) < 3:
+        raise ValueError(f"grids={grids}: need at least 3 grids for the extrapolation and its "
+                         "uncertainty")
+    own = None
+    if executor is None:
+        executor = own = ProcessPoolExecutor(jobs) if jobs > 1 else _Inline()
+    try:
+        # Dearest tasks first (finest grids): better load balance at the end of the sweep.
+        order = [(m, i) for m in reversed(grids) for i in range(len(cases))]
+        futures = {executor.submit(solve_task, cases[i].solve_kwargs(), m): (i, m)
+                   for m, i in order}
+        sols: list[dict[int, tuple]] = [{} for _ in cases]
+        with tqdm(total=len(futures), desc="reference (exact, fine grids)", unit="solve",
+                  disable=not progress, leave=False) as bar:
+            for fut in as_completed(futures):
+                i, m = futures[fut]
+                sols[i][m] = fut.result()
+                bar.update()
+    finally:
+        if own is not None:
+            own.shutdown()
+    return _build(cases, grids, sols, tol_force, tol_moment)
+
+
+def convergence_by_ratio(cases: Sequence[Case], refs: Sequence[Reference]) -> list[dict[str, Any]]:
+    """Per a/b: counts, uncertainty and two-grid-check statistics (in % of μN or μN·c), and the
+    exact-solver seconds spent."""
+    out = []
+    for ab in sorted({c.a_over_b for c in cases}):
+        idx = [i for i, c in enumerate(cases) if c.a_over_b == ab]
+        rs = [refs[i] for i in idx]
+        uF = np.array([r.u_F for r in rs]) * 100
+        uM = np.array([r.u_M for r in rs]) * 100
+        dF = np.array([r.d_F for r in rs]) * 100
+        dM = np.array([r.d_M for r in rs]) * 100
+        out.append({
+            "a_over_b": ab, "n": len(rs), "converged": sum(r.converged for r in rs),
+            "uF_median": float(np.median(uF)), "uF_max": float(uF.max()),
+            "uM_median": float(np.median(uM)), "uM_max": float(uM.max()),
+            "dF_median": float(np.median(dF)), "dF_max": float(dF.max()),
+            "dM_median": float(np.median(dM)), "dM_max": float(dM.max()),
+            "seconds": float(sum(r.seconds for r in rs)),
+        })
+    return out

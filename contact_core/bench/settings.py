@@ -1,0 +1,79 @@
+"""The method/setting matrix: one :class:`Setting` per label (method + options).
+
+Every setting of a registered method runs through :func:`contact_core.solve` in-process and, if
+``fmu`` is true, through the FMU (its ``method`` parameter and option parameters set to the same
+values). A setting may instead carry ``call``: any callable with the keyword arguments of
+:func:`contact_core.solve` (minus ``method``) returning an object with ``Fx, Fy, Mz`` — for
+experiments and tests (e.g. a deliberately perturbed copy of a method); such settings are timed
+in-process only.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One method with fixed options. ``family`` groups settings in the plot (colour/marker)."""
+
+    label: str
+    method: str
+    options: tuple[tuple[str, Any], ...] = ()
+    family: str = ""
+    call: Callable[..., Any] | None = field(default=None, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "options", tuple(sorted(dict(self.options).items())))
+        if not self.family:
+            object.__setattr__(self, "family", self.method)
+
+    @property
+    def fmu(self) -> bool:
+        """Whether the FMU can run this setting (a registered method, no custom callable)."""
+        return self.call is None
+
+    @property
+    def kwargs(self) -> dict[str, Any]:
+        return dict(self.options)
+
+
+def _fastsim(n: int, bound: str) -> Setting:
+    return Setting(f"FASTSIM {n}×{n} {bound}", "fastsim",
+                   (("nx", n), ("ny", n), ("bound", bound)), family=f"fastsim {bound}")
+
+
+def _exact(m: int) -> Setting:
+    return Setting(f"exact {m}×{m}", "exact", (("mx", m), ("my", m)))
+
+
+#: FASTSIM and exact grids per form of the benchmark.
+GRIDS: dict[str, dict[str, tuple[int, ...]]] = {
+    "short": {"fastsim": (5, 10, 20, 40), "exact": (12, 16, 24, 32)},
+    "full": {"fastsim": (5, 10, 20, 40, 80), "exact": (12, 16, 24, 32, 48)},
+    "smoke": {"fastsim": (5, 10), "exact": (8, 12)},
+}
+
+
+def default_settings(form: str = "short") -> list[Setting]:
+    """linear; Johnson–Vermeulen (both normalisations, Shen–Hedrick–Elkins spin); FASTSIM at
+    several grids with both traction bounds; exact at several grids. Cheapest family first."""
+    if form not in GRIDS:
+        raise ValueError(f"form={form!r} is unknown: allowed {sorted(GRIDS)}")
+    g = GRIDS[form]
+    out = [Setting("linear", "linear"),
+           Setting("JV kalker", "johnson_vermeulen", (("variant", "kalker"),),
+                   family="johnson_vermeulen kalker"),
+           Setting("JV original", "johnson_vermeulen", (("variant", "original"),),
+                   family="johnson_vermeulen original")]
+    for bound in ("parabolic", "elliptic"):
+        out += [_fastsim(n, bound) for n in g["fastsim"]]
+    out += [_exact(m) for m in g["exact"]]
+    return out
+
+
+def check_unique(settings: list[Setting]) -> None:
+    labels = [s.label for s in settings]
+    dup = sorted({x for x in labels if labels.count(x) > 1})
+    if dup:
+        raise ValueError(f"settings: duplicate label(s) {dup}")
