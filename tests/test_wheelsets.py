@@ -18,13 +18,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 from scipy.linalg import expm
-from scipy.optimize import brentq, curve_fit
+from scipy.optimize import brentq
 
 import contact_core as cc
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "examples"))
 
+from wheelsets.analysis import fit_damped  # noqa: E402
 from wheelsets.systems import CONNECTIONS, make_system  # noqa: E402
 
 # Reference parameters (issue 6) -------------------------------------------------------------
@@ -94,23 +95,6 @@ def hunting_eigenvalue(V, **k):
 def critical_speed():
     return brentq(lambda V: np.linalg.eigvals(state_matrix(V)).real.max(), 5.0, 300.0,
                   xtol=1e-10)
-
-
-def fit_damped(t, y):
-    """Fit y = A exp(σ (t - t0)) cos(ω t + θ); returns (σ, ω)."""
-    up = t[1:][(y[:-1] < 0) & (y[1:] >= 0)]
-    w0 = 2 * np.pi / np.median(np.diff(up))
-    f = lambda t, A, s, w, th: A * np.exp(s * (t - t[0])) * np.cos(w * t + th)
-    best = None
-    for th in np.linspace(0, 2 * np.pi, 6, endpoint=False):
-        try:
-            p, _ = curve_fit(f, t, y, p0=[np.abs(y).max(), 0.0, w0, th], maxfev=4000)
-        except RuntimeError:
-            continue
-        res = np.sum((f(t, *p) - y) ** 2)
-        if best is None or res < best[0]:
-            best = (res, p)
-    return best[1][1], abs(best[1][2])
 
 
 def creep_tau(V):

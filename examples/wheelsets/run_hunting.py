@@ -26,6 +26,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 sys.path.insert(0, str(HERE.parent))
 
+from wheelsets.analysis import fit_damped  # noqa: E402
 from wheelsets.build import contact_fmu_name  # noqa: E402
 from wheelsets.linear_model import LinearWheelset  # noqa: E402
 from wheelsets.systems import lateral_time_constant, make_system, recommended_step  # noqa: E402
@@ -41,24 +42,6 @@ def build(dist: Path) -> None:
     for scene, method in BUILD:
         cmd += ["--contact", f"{scene}:{method}"]
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-
-
-def fit_damped(t, y):
-    """Least-squares fit y ≈ A e^{σt} cos(ωt + θ): returns (σ, ω)."""
-    from scipy.optimize import curve_fit
-    up = t[1:][(y[:-1] < 0) & (y[1:] >= 0)]
-    w0 = 2 * math.pi / np.median(np.diff(up)) if len(up) > 1 else 10.0
-    f = lambda t, A, s, w, th: A * np.exp(s * (t - t[0])) * np.cos(w * t + th)
-    best = None
-    for th in np.linspace(0, 2 * np.pi, 6, endpoint=False):
-        try:
-            p, _ = curve_fit(f, t, y, p0=[np.abs(y).max(), 0.0, w0, th], maxfev=4000)
-        except RuntimeError:
-            continue
-        res = float(np.sum((f(t, *p) - y) ** 2))
-        if best is None or res < best[0]:
-            best = (res, p)
-    return best[1][1], abs(best[1][2])
 
 
 def time_per_second(run, h, budget=6.0):
