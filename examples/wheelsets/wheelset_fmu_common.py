@@ -37,28 +37,19 @@ class WheelsetSlaveBase(Fmi2Slave):
             self.register_variable(Real(name, causality=Fmi2Causality.parameter,
                                         variability=Fmi2Variability.fixed,
                                         initial=Fmi2Initial.exact, description=desc))
-        for side in ("L", "R"):
-            for base, _unit, desc in CONTACT_INPUTS:
-                name = f"{base}_{side}"
-                setattr(self, name, 0.0)
-                self.register_variable(Real(name, causality=Fmi2Causality.input,
-                                            variability=Fmi2Variability.continuous,
-                                            description=f"{desc}, {side} contact"))
-        for name, desc in extra_inputs:
+
+        def signal(name, causality, desc):
             setattr(self, name, 0.0)
-            self.register_variable(Real(name, causality=Fmi2Causality.input,
+            self.register_variable(Real(name, causality=causality,
                                         variability=Fmi2Variability.continuous, description=desc))
-        for side in ("L", "R"):
-            for base, _unit, desc in CONTACT_OUTPUTS:
-                name = f"{base}_{side}"
-                setattr(self, name, 0.0)
-                self.register_variable(Real(name, causality=Fmi2Causality.output,
-                                            variability=Fmi2Variability.continuous,
-                                            description=f"{desc}, {side} contact"))
-        for name, desc in extra_outputs:
-            setattr(self, name, 0.0)
-            self.register_variable(Real(name, causality=Fmi2Causality.output,
-                                        variability=Fmi2Variability.continuous, description=desc))
+
+        for causality, per_contact, extra in ((Fmi2Causality.input, CONTACT_INPUTS, extra_inputs),
+                                              (Fmi2Causality.output, CONTACT_OUTPUTS, extra_outputs)):
+            for side in ("L", "R"):
+                for base, _unit, desc in per_contact:
+                    signal(f"{base}_{side}", causality, f"{desc}, {side} contact")
+            for name, desc in extra:
+                signal(name, causality, desc)
         self._model = None
 
     def to_xml(self, model_options=dict()):
