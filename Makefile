@@ -17,7 +17,6 @@ run: $(STAMP)
 	mkdir -p out
 	$(PY) examples/creep_curves.py
 	$(PY) examples/fastsim_traction_map.py
-	$(PY) examples/exact_creep_curves.py
 	$(PY) examples/exact_traction_map.py
 	$(PY) examples/fmu_demo.py
 	$(PY) examples/wheelsets/run_hunting.py
