@@ -289,6 +289,20 @@ def test_tractcurv_converged_schemes_agree():
 
 # ----------------------------------------------------------------------------- bounds, fields
 
+def _assert_fields_consistent(r):
+    """Tractions within the bound (on it where slipping), sums equal to the forces and moment,
+    and the discrete bound carrying the load: Σ μ p_n ΔA = μ N."""
+    f = r.fields
+    mag = np.hypot(f.px, f.py)
+    assert np.all(mag <= f.bound * (1 + 1e-12))
+    assert np.allclose(mag[f.slip], f.bound[f.slip], rtol=1e-12)
+    assert (f.px * f.area).sum() == pytest.approx(r.Fx, rel=1e-12, abs=1e-9)
+    assert (f.py * f.area).sum() == pytest.approx(r.Fy, rel=1e-12, abs=1e-9)
+    mz = ((f.x * f.py - f.y * f.px) * f.area).sum()
+    assert mz == pytest.approx(r.Mz, rel=1e-10, abs=1e-12)
+    assert (f.bound * f.area).sum() == pytest.approx(MU * N, rel=1e-12)
+
+
 @pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
 def test_traction_bound_respected_everywhere_and_fields_consistent(bound):
     for kw in ({"xi": 2e-3}, {"xi": 1e-3, "eta": 5e-4, "phi": 2.0}, {"phi": 20.0},
@@ -296,17 +310,9 @@ def test_traction_bound_respected_everywhere_and_fields_consistent(bound):
         r = fs(**kw, nx=30, ny=24, bound=bound, fields=True)
         f = r.fields
         assert f.px.shape == (24, 30)
-        mag = np.hypot(f.px, f.py)
-        assert np.all(mag <= f.bound * (1 + 1e-12))
-        assert np.allclose(mag[f.slip], f.bound[f.slip], rtol=1e-12)
-        assert (f.px * f.area).sum() == pytest.approx(r.Fx, rel=1e-12, abs=1e-9)
-        assert (f.py * f.area).sum() == pytest.approx(r.Fy, rel=1e-12, abs=1e-9)
-        mz = ((f.x * f.py - f.y * f.px) * f.area).sum()
-        assert mz == pytest.approx(r.Mz, rel=1e-10, abs=1e-12)
+        _assert_fields_consistent(r)
         assert f.area.sum() == pytest.approx(math.pi * A * B, rel=0.01)
         assert (f.area * f.slip).sum() / f.area.sum() == pytest.approx(r.slip_fraction)
-        # discrete bound carries the load: Σ μ p_n ΔA = μ N
-        assert (f.bound * f.area).sum() == pytest.approx(MU * N, rel=1e-12)
         # element centres inside the ellipse, leading edge at +x
         assert np.all((f.x / A) ** 2 + (f.y / B) ** 2 < 1)
         assert np.all(np.diff(f.x, axis=1) < 0)
@@ -316,14 +322,7 @@ def test_traction_bound_respected_everywhere_and_fields_consistent(bound):
 def test_kalker_scheme_fields_at_centres(bound):
     r = fs(1e-3, 5e-4, 2.0, nx=30, ny=24, bound=bound, scheme="kalker", fields=True)
     f = r.fields
-    mag = np.hypot(f.px, f.py)
-    assert np.all(mag <= f.bound * (1 + 1e-12))
-    assert np.allclose(mag[f.slip], f.bound[f.slip], rtol=1e-12)
-    assert (f.px * f.area).sum() == pytest.approx(r.Fx, rel=1e-12, abs=1e-9)
-    assert (f.py * f.area).sum() == pytest.approx(r.Fy, rel=1e-12, abs=1e-9)
-    mz = ((f.x * f.py - f.y * f.px) * f.area).sum()
-    assert mz == pytest.approx(r.Mz, rel=1e-10, abs=1e-12)
-    assert (f.bound * f.area).sum() == pytest.approx(MU * N, rel=1e-12)   # load normalisation
+    _assert_fields_consistent(r)
     aj = A * np.sqrt(1 - (f.y[:, 0] / B) ** 2)
     i = np.arange(30)
     assert f.x == pytest.approx(aj[:, None] * (1 - (2 * i[None, :] + 1) / 30), rel=1e-12,
