@@ -46,13 +46,27 @@ from numba import njit
 EXTERIOR, STICK, SLIP = 0, 1, 2
 
 
+@njit(cache=True, fastmath=True, boundscheck=False, inline="always")
+def _row_dot(axx, axy, ayx, ayy, bx, by):
+    """(Σ axx·bx + axy·by, Σ ayx·bx + ayy·by) over one row of sources: the 2×2 kernel block
+    times the traction differences. Four separate accumulators so that LLVM vectorises the
+    loop (measured 4x faster than one 2×2-block accumulation)."""
+    s1 = 0.0
+    s2 = 0.0
+    s3 = 0.0
+    s4 = 0.0
+    for c in range(bx.size):
+        s1 += axx[c] * bx[c]
+        s2 += axy[c] * by[c]
+        s3 += ayx[c] * bx[c]
+        s4 += ayy[c] * by[c]
+    return s1 + s2, s3 + s4
+
+
 @njit(cache=True, fastmath=True, boundscheck=False)
 def _slip_at(ix, iy, mx, my, qx, qy, kxx, kxy, kyy, c_lo, c_hi, r_lo, r_hi):
-    """Σ_j K(i - j) q_j (2-vector) at element (ix, iy); K already divided by π.
-
-    Row-contiguous slices with four separate accumulators, so that LLVM vectorises the loop
-    (measured 4x faster than one 2×2-block accumulation).
-    """
+    """Σ_j K(i - j) q_j (2-vector) at element (ix, iy); K already divided by π (rows of
+    sources through :func:`_row_dot`)."""
     wx = 0.0
     wy = 0.0
     off = mx - 1 - ix
@@ -62,22 +76,11 @@ def _slip_at(ix, iy, mx, my, qx, qy, kxx, kxy, kyy, c_lo, c_hi, r_lo, r_hi):
         if lo >= hi:
             continue
         ky = iy - jy + my - 1
-        a1 = kxx[ky, off + lo:off + hi]
-        a2 = kxy[ky, off + lo:off + hi]
-        a3 = kyy[ky, off + lo:off + hi]
-        b1 = qx[jy, lo:hi]
-        b2 = qy[jy, lo:hi]
-        s1 = 0.0
-        s2 = 0.0
-        s3 = 0.0
-        s4 = 0.0
-        for c in range(hi - lo):
-            s1 += a1[c] * b1[c]
-            s2 += a2[c] * b2[c]
-            s3 += a2[c] * b1[c]
-            s4 += a3[c] * b2[c]
-        wx += s1 + s2
-        wy += s3 + s4
+        dx, dy = _row_dot(kxx[ky, off + lo:off + hi], kxy[ky, off + lo:off + hi],
+                          kxy[ky, off + lo:off + hi], kyy[ky, off + lo:off + hi],
+                          qx[jy, lo:hi], qy[jy, lo:hi])
+        wx += dx
+        wy += dy
     return wx, wy
 
 
@@ -294,23 +297,11 @@ def _slip_half(ix, h, mx, qx, qy, fxx, fxy1, fxy2, fyy, c_lo, c_hi, r_lo, r_hi):
         hi = c_hi[hj] + 1
         if lo >= hi:
             continue
-        a1 = fxx[h, hj, off + lo:off + hi]
-        a2 = fxy1[h, hj, off + lo:off + hi]
-        a3 = fxy2[h, hj, off + lo:off + hi]
-        a4 = fyy[h, hj, off + lo:off + hi]
-        b1 = qx[hj, lo:hi]
-        b2 = qy[hj, lo:hi]
-        s1 = 0.0
-        s2 = 0.0
-        s3 = 0.0
-        s4 = 0.0
-        for c in range(hi - lo):
-            s1 += a1[c] * b1[c]
-            s2 += a2[c] * b2[c]
-            s3 += a3[c] * b1[c]
-            s4 += a4[c] * b2[c]
-        wx += s1 + s2
-        wy += s3 + s4
+        dx, dy = _row_dot(fxx[h, hj, off + lo:off + hi], fxy1[h, hj, off + lo:off + hi],
+                          fxy2[h, hj, off + lo:off + hi], fyy[h, hj, off + lo:off + hi],
+                          qx[hj, lo:hi], qy[hj, lo:hi])
+        wx += dx
+        wy += dy
     return wx, wy
 
 
