@@ -12,7 +12,11 @@ a cold solution; ratios against the cold solve with cached normal solution ("x c
 against a cold solve of a new load case including the normal problem ("x new").
 "Sequence": ten steps along a creepage ramp of 0.1 % / 1 % per step, each warm-started from
 the previous result, without and with the secant predictor of the warm state (mean ms and
-sweeps per step). "Longitudinal only": effects (longitudinal, saturation), η = φ = 0, solved on
+sweeps per step). "Co-simulation replay": the left-wheel contact inputs of the reference
+wheelset models (examples/wheelsets; hunting above and below the critical speed, a curve entry),
+recorded with FASTSIM contacts, then solved by the exact method through the FMU's evaluator
+(contact_core.WheelRailEvaluator: warm start from the previous step) and cold at every step.
+"Longitudinal only": effects (longitudinal, saturation), η = φ = 0, solved on
 the half grid (y-mirror symmetry) against the full grid. Each timing is the minimum over
 repeats (the machine is shared). Numba compile/cache-load time reported separately.
 """
@@ -21,6 +25,7 @@ from __future__ import annotations
 import math
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -28,6 +33,11 @@ import contact_core as cc
 from contact_core.exact import influence as exact_influence
 from contact_core.exact import normal as exact_normal
 from contact_core.exact import solver as exact_solver
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from wheelsets.linear_model import LinearWheelset  # noqa: E402
+from wheelsets.systems import lateral_time_constant, recommended_step  # noqa: E402
+from wheelsets.wheelset_dynamics import LateralParams, LateralState, LateralWheelset  # noqa: E402
 
 A, B, N, G, NU, MU = 6.304e-3, 12.61e-3, 106.7e3, 82e9, 0.28, 0.33
 CASES = {"longitudinal": (1.2e-3, 0.0, 0.0), "lateral": (0.0, 1e-3, 0.0),
@@ -65,6 +75,64 @@ def _sequence(solver, xi: float, eta: float, phi: float) -> dict:
         exact_solver._SECANT = True
         res[step] = pair
     return res
+
+
+def _record(V: float, h: float, T: float, y0: float, R: float = math.inf,
+            L: float = 0.0) -> np.ndarray:
+    """(ξ, η, φ, N, √(ab)) of the left contact at every step of a lateral wheelset run
+    (FASTSIM)."""
+    ws = LateralWheelset(LateralParams(V=V, R=R, L_transition=L), LateralState(y=y0))
+    evs = {s: cc.WheelRailEvaluator(cc.WheelRailConfig(method="fastsim")) for s in "LR"}
+    rows = []
+    for _ in range(int(round(T / h))):
+        c = ws.creepages()
+        f = {s: evs[s].evaluate(c["xi_" + s], c["eta_" + s], c["phi_" + s], c["N_" + s],
+                                evs[s].mu) for s in "LR"}
+        rows.append((c["xi_L"], c["eta_L"], c["phi_L"], c["N_L"],
+                     math.sqrt(evs["L"].a * evs["L"].b)))
+        ws.step(h, f["L"].Fx, f["L"].Fy, f["L"].Mz, f["R"].Fx, f["R"].Fy, f["R"].Mz)
+    return np.array(rows)
+
+
+def _replay(rows: np.ndarray, mx: int, my: int) -> dict:
+    """Mean ms and sweeps per step of the exact evaluator, cold and warm-started."""
+    out = {}
+    for warm in (False, True):
+        ev = cc.WheelRailEvaluator(cc.WheelRailConfig(method="exact",
+                                                      options={"mx": mx, "my": my}))
+        t, its = 0.0, 0
+        for xi, eta, phi, n, _ in rows:
+            if not warm:
+                ev.last = None
+            t0 = time.perf_counter()
+            r = ev.evaluate(xi, eta, phi, n, ev.mu)
+            t += time.perf_counter() - t0
+            its += r.iterations
+        out[warm] = (t * 1e3 / len(rows), its / len(rows))
+    return out
+
+
+def replay_table() -> None:
+    vc = LinearWheelset(k_y=LateralParams.k_y, k_psi=LateralParams.k_psi).critical_speed()
+    scenes = [("hunting 1.1 Vc", dict(V=1.1 * vc, h=1e-3, T=2.0, y0=1e-3)),
+              ("hunting 0.9 Vc", dict(V=0.9 * vc, h=recommended_step(
+                  lateral_time_constant(0.9 * vc)), T=2.0, y0=3e-3)),
+              ("curve R 300 m", dict(V=20.0, h=1e-3, T=2.0, y0=0.0, R=300.0, L=20.0))]
+    print("co-simulation replay: the left contact's inputs of a wheelset run; exact solver cold "
+          "at every step vs warm-started from the previous step (secant); mean per step")
+    print("Δσ/σ: median relative change per step of (ξ, η, φ√(ab))")
+    print(f"{'scene':15s} {'step':>6s} {'grid':7s} {'Δσ/σ':>7s} | {'cold ms':>8s} {'sw':>5s} | "
+          f"{'warm ms':>8s} {'sw':>5s} | {'x cold':>6s}")
+    for name, kw in scenes:
+        rows = _record(**kw)
+        sig = np.column_stack([rows[:, 0], rows[:, 1], rows[:, 2] * rows[:, 4]])
+        rel = float(np.median(np.linalg.norm(np.diff(sig, axis=0), axis=1)
+                              / np.linalg.norm(sig[1:], axis=1)))
+        for (mx, my), n in (((20, 20), 300), ((48, 44), 60)):
+            o = _replay(rows[-n:], mx, my)
+            (tc, ic), (tw, iw) = o[False], o[True]
+            print(f"{name:15s} {kw['h'] * 1e3:4.0f}ms {mx}x{my:<4d} {rel:7.1e} | {tc:8.2f} "
+                  f"{ic:5.1f} | {tw:8.2f} {iw:5.1f} | {tc / tw:6.2f}", flush=True)
 
 
 def main() -> int:
@@ -128,6 +196,8 @@ def main() -> int:
             (mp, ip), (ms, isw) = res[step]
             cells.append(f"{mp:8.2f} ({ip:4.1f}) {ms:8.2f} ({isw:4.1f}) {c / ms:6.2f}")
         print(f"{g:7s} {name:13s} | {cells[0]} | {cells[1]}")
+    print()
+    replay_table()
     print()
     print("longitudinal only (effects longitudinal + saturation, η = φ = 0): ms per cold solve "
           "(cached normal)")

@@ -353,6 +353,33 @@ def test_warm_start_is_faster_and_same(wheel_rail_case):
     assert r.Fx == pytest.approx(cold.Fx, rel=1e-6)
 
 
+def test_isolated_warm_start_scales_the_previous_solution(wheel_rail_case):
+    # Without a secant, the start is the previous solution scaled by the projection s of the
+    # new normalised creepages on the old ones. Two exact properties of the discrete problem
+    # make that start the solution itself, so one sweep (the convergence test) suffices:
+    k = wheel_rail_case
+    args = (k["N"], k["mu"], k["a"], k["b"], k["G"], k["nu"])
+    # (1) without saturation (μ -> ∞, every element sticks) the problem is linear in the
+    #     creepages (Kalker's linear theory), so p(s σ) = s p(σ);
+    lin = cc.make_solver("exact", mx=16, my=16, effects=("longitudinal", "lateral", "spin"))
+    r1 = lin.step(1e-3, 5e-4, 0.2, *args)
+    cold = lin.step(2.5e-3, 1.25e-3, 0.5, *args)
+    warm = lin.step(2.5e-3, 1.25e-3, 0.5, *args, warm_start=r1)
+    assert warm.iterations == 1 and cold.iterations > 5
+    for f in ("Fx", "Fy", "Mz"):
+        assert getattr(warm, f) == pytest.approx(getattr(cold, f), rel=1e-6)
+    # (2) with Coulomb friction the problem is odd: p(-σ) = -p(σ) (s = -1), in partial slip
+    sat = cc.make_solver("exact", mx=16, my=16)
+    r1 = sat.step(1e-3, 5e-4, 0.2, *args)
+    assert 0.2 < r1.slip_fraction < 0.9
+    cold = sat.step(-1e-3, -5e-4, -0.2, *args)
+    warm = sat.step(-1e-3, -5e-4, -0.2, *args, warm_start=r1)
+    assert warm.iterations == 1 and cold.iterations > 5
+    for f in ("Fx", "Fy", "Mz"):
+        assert getattr(warm, f) == pytest.approx(getattr(cold, f), rel=1e-6)
+        assert getattr(warm, f) == pytest.approx(-getattr(r1, f), rel=1e-6)
+
+
 def test_not_converged_warns(wheel_rail_case):
     k = wheel_rail_case
     with pytest.warns(ExactSolverWarning):

@@ -23,9 +23,12 @@ full grid, so the iterates are those of the full solve up to rounding (measured 
 ~1e-16 in Fx) at 2.0-2.4x less time. Unselected outputs are reported as 0.0.
 
 Warm start (``warm_start=previous_result``): the iteration starts from the previous tractions
-(scaled to the new μ p0). When that result was itself warm-started, its state also holds the
-solution before it, and the start is extrapolated along the secant of the two (a co-simulation
-sequence; measured 2-3x fewer sweeps per step at 0.1 % steps).
+(scaled to the new μ p0), multiplied by the projection s of the new normalised creepages on the
+old ones: exact when no element slips (the problem is then linear, p(sσ) = s p(σ)) and for a
+sign reversal (the problem is odd), a first guess otherwise. When the previous result was itself
+warm-started, its state also holds the solution before it, and the start is extrapolated along
+the secant of the two instead (a co-simulation sequence; measured 2-3x fewer sweeps per step at
+0.1 % steps). examples/bench_exact.py reports the speed-ups.
 
 Non-convergence: if the tolerance is not reached within ``maxit`` sweeps, the result carries
 ``converged=False`` and an :class:`ExactSolverWarning` is issued (never an exception); the
@@ -57,8 +60,10 @@ _AA_DEPTH, _AA_START = 5, 2
 # when these take at most _FOLD_MAX_BYTES; _HALF = False forces the full grid (tests).
 _HALF = True
 _FOLD_MAX_BYTES = 64 * 2 ** 20
-# Warm start: extrapolate along the secant of the last two solutions (see Exact._initial).
+# Warm start: extrapolate along the secant of the last two solutions, else scale the last one
+# (see Exact._initial); False switches either off (benchmark comparisons).
 _SECANT = True
+_SCALE = True
 
 
 class ExactSolverWarning(RuntimeWarning):
@@ -250,9 +255,10 @@ class Exact(ContactMethod):
                           f"a/b={a / b:g}", ExactSolverWarning, stacklevel=3)
         dA = G * dx * dy
         Fx = float(px.sum()) * dA if eff.longitudinal else 0.0
-        Fy = float(py.sum()) * dA if eff.lateral else 0.0
+        # half grid: X even and Y odd in y, so Fy = Mz = 0 exactly (not only to rounding)
+        Fy = float(py.sum()) * dA if eff.lateral and fold is None else 0.0
         Mz = (float((x[None, :] * py).sum() - (y[:, None] * px).sum()) * dA
-              if eff.spin else 0.0)
+              if eff.spin and fold is None else 0.0)
         ncon = int(con.sum())
         nslip = int((status == SLIP).sum())
         fields = None
@@ -316,7 +322,8 @@ class Exact(ContactMethod):
         With the solution the previous one was started from (a co-simulation sequence), the
         start is extrapolated along the secant: p = p_k + α (p_k - p_{k-1}), α the projection of
         the change of the normalised creepages σ = (ξ, η, φ √(ab))/(μ p0/G) onto the last one
-        (|α| <= 3). Returns (px, py, (px/ref, py/ref, σ) of the start or None).
+        (|α| <= 3). Otherwise (same a/b and ν) p = s p_k with s = σ·σ_k/|σ_k|², then clipped to
+        the friction bound. Returns (px, py, (px/ref, py/ref, σ) of the start or None).
         """
         my, mx = con.shape
         st = getattr(warm_start, "warm_state", None)
@@ -329,8 +336,9 @@ class Exact(ContactMethod):
         sig_k = st.get("sigma")
         px = px_k
         py = py_k
-        if (_SECANT and sig_k is not None and "prev_px" in st and st.get("a_over_b") == tag[4]
-                and st.get("nu") == tag[5]):
+        same = sig_k is not None and st.get("a_over_b") == tag[4] and st.get("nu") == tag[5]
+        secant = False
+        if _SECANT and same and "prev_px" in st:
             d_old = np.asarray(sig_k) - np.asarray(st["prev_sigma"])
             nn = float(d_old @ d_old)
             if nn > 0.0:
@@ -338,6 +346,13 @@ class Exact(ContactMethod):
                 if 0.0 < abs(alpha) <= 3.0:
                     px = px_k + alpha * (px_k - np.asarray(st["prev_px"], dtype=float))
                     py = py_k + alpha * (py_k - np.asarray(st["prev_py"], dtype=float))
+                    secant = True
+        if _SCALE and same and not secant:
+            nn = float(np.asarray(sig_k) @ np.asarray(sig_k))
+            if nn > 0.0:
+                s = float(sigma @ np.asarray(sig_k)) / nn
+                px = s * px_k
+                py = s * py_k
         px = np.where(con, px * ref, 0.0)
         py = np.where(con, py * ref, 0.0)
         absp = np.hypot(px, py)
