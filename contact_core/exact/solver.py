@@ -334,12 +334,14 @@ class Exact(ContactMethod):
         px_k = np.asarray(st["px"], dtype=float)
         py_k = np.asarray(st["py"], dtype=float)
         sig_k = st.get("sigma")
+        if sig_k is not None:
+            sig_k = np.asarray(sig_k, dtype=float)
         px = px_k
         py = py_k
         same = sig_k is not None and st.get("a_over_b") == tag[4] and st.get("nu") == tag[5]
         secant = False
         if _SECANT and same and "prev_px" in st:
-            d_old = np.asarray(sig_k) - np.asarray(st["prev_sigma"])
+            d_old = sig_k - np.asarray(st["prev_sigma"])
             nn = float(d_old @ d_old)
             if nn > 0.0:
                 alpha = float((sigma - sig_k) @ d_old) / nn
@@ -348,9 +350,9 @@ class Exact(ContactMethod):
                     py = py_k + alpha * (py_k - np.asarray(st["prev_py"], dtype=float))
                     secant = True
         if _SCALE and same and not secant:
-            nn = float(np.asarray(sig_k) @ np.asarray(sig_k))
+            nn = float(sig_k @ sig_k)
             if nn > 0.0:
-                s = float(sigma @ np.asarray(sig_k)) / nn
+                s = float(sigma @ sig_k) / nn
                 px = s * px_k
                 py = s * py_k
         px = np.where(con, px * ref, 0.0)
@@ -361,9 +363,7 @@ class Exact(ContactMethod):
             f = np.where(over, bound / np.where(over, absp, 1.0), 1.0)
             px *= f
             py *= f
-        start = None
-        if sig_k is not None and st.get("a_over_b") == tag[4] and st.get("nu") == tag[5]:
-            start = (px_k, py_k, np.asarray(sig_k, dtype=float))
+        start = (px_k, py_k, sig_k) if same else None
         return px, py, start
 
 
