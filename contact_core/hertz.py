@@ -74,10 +74,23 @@ class HertzGeometry:
         return HertzPatch(a, b, max_pressure(N, a, b), self.kd * s * s)
 
 
+def ellipse_curvatures(a: float, b: float) -> tuple[float, float]:
+    """Relative curvatures (A along x, B along y) in 1/m, divided by p0/E*, that make the
+    ellipse with semi-axes ``a`` (x), ``b`` (y) in m (Johnson eq 4.39 in Carlson form, above):
+    A' = β R_D/(3 α²), B' = (R_F - R_D/3)/β along the major (α) and minor (β) axes."""
+    alpha, beta = max(a, b), min(a, b)
+    g2 = (beta / alpha) ** 2
+    rf = float(elliprf(0.0, g2, 1.0))
+    rd = float(elliprd(0.0, g2, 1.0))
+    c_major = beta / alpha ** 2 * rd / 3.0
+    c_minor = (rf - rd / 3.0) / beta
+    return (c_major, c_minor) if a >= b else (c_minor, c_major)
+
+
 def _curvature_ratio(g: float) -> float:
-    """B'/A' for minor/major axis ratio g (Johnson eq 4.39 in Carlson form)."""
-    g2 = g * g
-    return (3.0 * float(elliprf(0.0, g2, 1.0)) / float(elliprd(0.0, g2, 1.0)) - 1.0) / g2
+    """B'/A' for minor/major axis ratio g."""
+    c_major, c_minor = ellipse_curvatures(1.0, g)
+    return c_minor / c_major
 
 
 def _axis_ratio(q: float) -> float:

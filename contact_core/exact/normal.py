@@ -29,25 +29,9 @@ from functools import lru_cache
 import numpy as np
 import scipy.fft as sfft
 from numba import njit
-from scipy.special import elliprd, elliprf
 
+from ..hertz import ellipse_curvatures
 from .influence import element_integrals, normal_kernel_fft
-
-
-def hertz_curvatures(a: float, b: float) -> tuple[float, float]:
-    """Relative curvatures (A, B) times E*/p0 (units 1/m · m... i.e. 1/length) of the ellipse (a, b).
-
-    With α >= β the semi-axes, g = β/α, Johnson eqs 4.39 in Carlson form (DLMF 19.25.1):
-    A'(along α) = p0 β/(E* α²) R_D/3,  B'(along β) = p0/(E* β) (R_F - R_D/3),
-    R_F = R_F(0, g², 1), R_D = R_D(0, g², 1). Returned divided by p0/E*.
-    """
-    alpha, beta = max(a, b), min(a, b)
-    g2 = (beta / alpha) ** 2
-    rf = float(elliprf(0.0, g2, 1.0))
-    rd = float(elliprd(0.0, g2, 1.0))
-    c_major = beta / alpha ** 2 * rd / 3.0
-    c_minor = (rf - rd / 3.0) / beta
-    return (c_major, c_minor) if a >= b else (c_minor, c_major)
 
 
 def _solve_pk_fft(mx: int, my: int, dx: float, dy: float, h: np.ndarray, total: float,
@@ -311,7 +295,7 @@ def normalised_pressure(mx: int, my: int, scale: float, a_over_b: float, kind: s
         # h in units of p0/E*·length; u = (1-ν) dx/(πG) I_R p = dx/(π E*) I_R p.  Dividing the
         # equation by dx/(π E*) p0: I_R p̂ + π h/(p0 dx/E*) = δ'.
         a, b = a_over_b, 1.0
-        ca, cb = hertz_curvatures(a, b)
+        ca, cb = ellipse_curvatures(a, b)
         dx = dxh * a
         X = xh * a
         Y = yh * b

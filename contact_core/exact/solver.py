@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from ..base import ContactMethod
+from ..hertz import max_pressure
 from ..result import ContactResult
 from .influence import tangential_tables
 from .normal import normalised_pressure
@@ -221,7 +222,7 @@ class Exact(ContactMethod):
         mx, my, scale = o["mx"], o["my"], o["scale"]
         eff = self.effects
         grid = _grid(mx, my, scale, a / b, o["normal"])
-        p0 = 3.0 * N / (2.0 * math.pi * a * b)
+        p0 = max_pressure(N, a, b)
         dx, dy = 2.0 * scale * a / mx, 2.0 * scale * b / my
         x = -scale * a + (np.arange(mx) + 0.5) * dx
         y = -scale * b + (np.arange(my) + 0.5) * dy
