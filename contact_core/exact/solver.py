@@ -27,8 +27,8 @@ Warm start (``warm_start=previous_result``): the iteration starts from the previ
 old ones: exact when no element slips (the problem is then linear, p(sσ) = s p(σ)) and for a
 sign reversal (the problem is odd), a first guess otherwise. When the previous result was itself
 warm-started, its state also holds the solution before it, and the start is extrapolated along
-the secant of the two instead (a co-simulation sequence; measured 2-3x fewer sweeps per step at
-0.1 % steps). examples/bench_exact.py reports the speed-ups.
+the secant of the two instead (a co-simulation sequence; measured 2-4x fewer sweeps per step at
+0.1 % steps). examples/bench_exact.py reports the speed-ups against the size of the change.
 
 Non-convergence: if the tolerance is not reached within ``maxit`` sweeps, the result carries
 ``converged=False`` and an :class:`ExactSolverWarning` is issued (never an exception); the
