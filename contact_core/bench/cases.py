@@ -27,7 +27,7 @@ seeded from the file (and the form), so the set is identical on every run and ma
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
 from pathlib import Path
@@ -91,12 +91,6 @@ class Case:
         """FMU parameters (start values) that reproduce this case's geometry and material."""
         return {"E": self.E, "nu": self.nu, "R_wheel": self.R_wheel,
                 "R_wheel_profile": self.R_wheel_profile, "R_rail_profile": self.R_rail_profile}
-
-    def fmu_inputs(self) -> dict[str, float]:
-        return {"xi": self.xi, "eta": self.eta, "phi": self.phi, "N": self.N, "mu": self.mu}
-
-    def as_dict(self) -> dict[str, Any]:
-        return asdict(self)
 
 
 def load_spec(path: str | Path | None = None) -> dict[str, Any]:

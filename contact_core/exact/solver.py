@@ -323,8 +323,8 @@ class Exact(ContactMethod):
         With the solution the previous one was started from (a co-simulation sequence), the
         start is extrapolated along the secant: p = p_k + α (p_k - p_{k-1}), α the projection of
         the change of the normalised creepages σ = (ξ, η, φ √(ab))/(μ p0/G) onto the last one
-        (|α| <= 3). Otherwise (same a/b and ν) p = s p_k with s = σ·σ_k/|σ_k|², then clipped to
-        the friction bound. Returns (px, py, (px/ref, py/ref, σ) of the start or None).
+        (|α| <= 3). Otherwise (same a/b and ν) p = s p_k with s = σ·σ_k/|σ_k|², then clipped
+        to the friction bound. Returns (px, py, (px/ref, py/ref, σ) of the start or None).
         """
         my, mx = con.shape
         st = getattr(warm_start, "warm_state", None)

@@ -17,7 +17,6 @@ import os
 import platform
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -86,7 +85,6 @@ def main(argv=None) -> int:
     lw = LinearWheelset(k_y=K_Y, k_psi=K_PSI)
     Vc = lw.critical_speed()
     lam_c = lw.hunting_eigenvalue(Vc)
-    lines = []
 
     # 1. Linear FMU: decay / growth, frequency, V_c from the co-simulation ----------------------
     rows = []
@@ -269,8 +267,8 @@ def main(argv=None) -> int:
     L.append("## Wall time per simulated second (median of up to 3 runs)\n")
     L.append("| system | contact FMU (scene, method) | h (ms) | wall s per simulated s | ms per step | steps timed |")
     L.append("|---|---|---|---|---|---|")
-    for label, tab in ((f"tangent track, 1.1 V_c", timing),
-                       (f"driven wheelset, T = 0.8 μWr0", traction_timing)):
+    for label, tab in (("tangent track, 1.1 V_c", timing),
+                       ("driven wheelset, T = 0.8 μWr0", traction_timing)):
         for scene, method, h, per_s, steps in tab:
             L.append(f"| {label} | {scene}, {method} | {h * 1e3:.2f} | {per_s:.3g} | "
                      f"{per_s * h * 1e3:.3g} | {steps} |")

@@ -1,12 +1,11 @@
-"""Validation helpers for built FMUs (used by ``build_fmu.py``, the tests and the benchmark).
+"""Validation of built FMUs (used by ``build_fmu.py`` and the tests).
 
-fmpy is imported lazily: these helpers are bundled into the FMU but never run inside it.
+fmpy is imported lazily: this module is bundled into the FMU but never run inside it.
 """
 from __future__ import annotations
 
 import os
 import zipfile
-from typing import Any
 
 
 def validate(path: str | os.PathLike) -> list[str]:
@@ -31,22 +30,3 @@ def validate(path: str | os.PathLike) -> list[str]:
             problems.append(f"the archive lacks {required}")
     return problems
 
-
-def variables(path: str | os.PathLike) -> dict[str, dict[str, Any]]:
-    """The FMU's variables: name -> {type, causality, variability, initial, unit, start,
-    valueReference, description}."""
-    from fmpy import read_model_description
-
-    md = read_model_description(str(path))
-    return {v.name: {"type": v.type, "causality": v.causality, "variability": v.variability,
-                     "initial": v.initial, "unit": v.unit, "start": v.start,
-                     "valueReference": v.valueReference, "description": v.description}
-            for v in md.modelVariables}
-
-
-def names_by_causality(path: str | os.PathLike) -> dict[str, set[str]]:
-    """``{"input": {...}, "output": {...}, "parameter": {...}}`` of the FMU at ``path``."""
-    out: dict[str, set[str]] = {}
-    for name, v in variables(path).items():
-        out.setdefault(v["causality"], set()).add(name)
-    return out
