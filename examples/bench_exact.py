@@ -142,7 +142,7 @@ class _FirstOrderStart:
     def __init__(self, solver, mx: int, my: int, a_over_b: float, nu: float) -> None:
         scale = solver.options["scale"]
         grid = exact_solver._grid(mx, my, scale, a_over_b, solver.options["normal"])
-        kxx, kxy, kyy = solver._kernels(a_over_b ** -1, nu)     # dy/dx = b/a
+        kxx, kxy, kyy = solver._kernels(mx / my / a_over_b, nu)   # dy/dx
         self.shape = (my, mx)
         self.iy, self.ix = np.nonzero(grid.contact)
         n = len(self.iy)
