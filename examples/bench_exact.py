@@ -139,17 +139,18 @@ class _FirstOrderStart:
     e = w/|w|; the start is v_k + δv, clipped to the friction bound.
     """
 
-    def __init__(self, solver, mx: int, my: int, a_over_b: float, nu: float) -> None:
-        scale = solver.options["scale"]
-        grid = exact_solver._grid(mx, my, scale, a_over_b, solver.options["normal"])
-        kxx, kxy, kyy = solver._kernels(mx / my / a_over_b, nu)   # dy/dx
+    def __init__(self, solver, solution, a: float, b: float) -> None:
+        """Operator of the grid of ``solution`` (any solution with fields at this a/b)."""
+        o = solver.options
+        mx, my = o["mx"], o["my"]
+        grid = exact_solver._grid(mx, my, o["scale"], a / b, o["normal"])
+        kxx, kxy, kyy = solver._kernels(mx / my * b / a, solution.warm_state["nu"])   # dy/dx
+        self.a_over_b = a / b
         self.shape = (my, mx)
         self.iy, self.ix = np.nonzero(grid.contact)
         n = len(self.iy)
-        x = (np.arange(mx) + 0.5) / mx * 2.0 * scale - scale     # in units of a
-        y = (np.arange(my) + 0.5) / my * 2.0 * scale - scale     # in units of b
-        self.xh = x[self.ix] * math.sqrt(a_over_b)                # x/√(ab)
-        self.yh = y[self.iy] / math.sqrt(a_over_b)                # y/√(ab)
+        self.xh = solution.fields.x[self.ix] / math.sqrt(a * b)    # independent of N at fixed a/b
+        self.yh = solution.fields.y[self.iy] / math.sqrt(a * b)
         self.g = grid.pn[self.iy, self.ix]
         zero = np.zeros(self.shape)
         stick = np.where(grid.contact, tangential.STICK, tangential.EXTERIOR).astype(np.int8)
@@ -170,8 +171,9 @@ class _FirstOrderStart:
         n = len(self.iy)
         st = prev.warm_state
         v = np.concatenate([st["px"][self.iy, self.ix], st["py"][self.iy, self.ix]])
-        dc = self.rigid(sigma) - self.rigid(st["sigma"])
-        w = self.M @ v + self.rigid(st["sigma"])
+        c = self.rigid(st["sigma"])
+        dc = self.rigid(sigma) - c
+        w = self.M @ v + c
         J, rhs = self.M.copy(), -dc
         i = np.flatnonzero(prev.fields.status[self.iy, self.ix] == tangential.SLIP)
         wx, wy = w[i], w[n + i]
@@ -203,9 +205,10 @@ def _first_order_sweeps(rows: np.ndarray, mx: int, my: int) -> float:
     for xi, eta, phi, n, a, b in rows:
         args = (xi, eta, phi, n, mu_, a, b, G_, nu_)
         r = tight.step(*args, warm_start=prev)
-        if prev is not None:
-            if bound is None or prev.warm_state["a_over_b"] != a / b:
-                bound = _FirstOrderStart(solver, mx, my, a / b, nu_)
+        # a new a/b is a new grid: no start from the previous step (as in the solver)
+        if prev is not None and prev.warm_state["a_over_b"] == a / b:
+            if bound is None or bound.a_over_b != a / b:
+                bound = _FirstOrderStart(solver, r, a, b)
             its.append(solver.step(*args, warm_start=bound.start(prev, r.warm_state["sigma"]))
                        .iterations)
         prev = r
