@@ -30,6 +30,8 @@ bench: $(STAMP)
 	$(PY) examples/bench_fastsim.py
 	$(PY) examples/bench_exact.py
 	$(PY) examples/bench_fmu.py
+	$(PY) examples/bench_fmu_startup.py
+	$(PY) examples/bench_fmu_leaks.py
 
 clean:
 	rm -rf $(VENV) out dist build *.egg-info

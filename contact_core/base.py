@@ -66,6 +66,14 @@ class ContactMethod(ABC):
     def _check_options(self) -> None:
         """Validate ``self.options``; raise ``ValueError`` naming the option and its range."""
 
+    @classmethod
+    def check_warm_state(cls, warm_state: Any) -> None:
+        """Check a ``ContactResult.warm_state`` of this method read from outside (e.g. a saved
+        FMU state) before it is used; raise ``ValueError`` saying what is wrong. Methods without a
+        warm start accept only None."""
+        if warm_state is not None:
+            raise ValueError(f"method {cls.name!r} keeps no warm state (got {warm_state!r:.80})")
+
     def step(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
              G: float, nu: float, warm_start: ContactResult | None = None) -> ContactResult:
         """Solve one contact state (SI units; see ``contact_core.solve`` for the arguments)."""

@@ -60,9 +60,10 @@ class WheelRailConfig:
     R_wheel : float
         Rolling radius, m (0 < R_wheel <= inf).
     R_wheel_profile : float
-        Transverse radius of the wheel profile, m (negative: concave/hollow; inf: conical tread).
+        Transverse radius of the wheel profile, m (negative: concave/hollow; 0 or inf: straight,
+        i.e. a conical tread; 0 is the finite form FMI hosts need).
     R_rail_profile : float
-        Rail-crown radius, m (convex positive).
+        Rail-crown radius, m (convex positive; 0 or inf: straight).
     options : mapping
         Options of the method (its ``default_options`` keys), e.g. ``{"variant": "original"}``.
     """
@@ -73,7 +74,7 @@ class WheelRailConfig:
     E: float = 210e9
     nu: float = 0.28
     R_wheel: float = 0.46
-    R_wheel_profile: float = math.inf
+    R_wheel_profile: float = 0.0
     R_rail_profile: float = 0.3
     options: Mapping[str, Any] | tuple[tuple[str, Any], ...] = ()
 
@@ -96,7 +97,7 @@ class WheelRailConfig:
         if not (0.0 <= self.nu < 0.5):
             raise ValueError(f"nu={self.nu!r} is out of range: allowed 0 <= nu < 0.5 "
                              "(Poisson's ratio)")
-        A, B = wheel_rail_curvatures(self.R_wheel, self.R_wheel_profile, self.R_rail_profile)
+        A, B = self.curvatures()
         if not (math.isfinite(A) and A > 0.0):
             raise ValueError(f"R_wheel={self.R_wheel!r} is out of range: allowed 0 < R_wheel < inf")
         if not (math.isfinite(B) and B > 0.0):
@@ -105,6 +106,15 @@ class WheelRailConfig:
                 f"give a transverse relative curvature B={B!r} 1/m: allowed 0 < B < inf, i.e. "
                 "1/R_wheel_profile + 1/R_rail_profile > 0 (a concave wheel profile must be flatter "
                 "than the rail crown)")
+
+
+    def curvatures(self) -> tuple[float, float]:
+        """Relative curvatures (A, B), 1/m (:func:`~contact_core.hertz.wheel_rail_curvatures`;
+        a profile radius of 0 is a straight profile)."""
+        def radius(R: float) -> float:
+            return _INF if R == 0.0 else R
+        return wheel_rail_curvatures(self.R_wheel, radius(self.R_wheel_profile),
+                                     radius(self.R_rail_profile))
 
 
 class WheelRailEvaluator:
@@ -119,7 +129,7 @@ class WheelRailEvaluator:
     def __init__(self, config: WheelRailConfig) -> None:
         config.check()
         self.config = config
-        A, B = wheel_rail_curvatures(config.R_wheel, config.R_wheel_profile, config.R_rail_profile)
+        A, B = config.curvatures()
         try:
             self.geometry = hertz_geometry(A, B, config.E, config.nu)
         except ValueError as e:  # the curvature ratio: name the radii it comes from

@@ -7,7 +7,9 @@ One "step" is what a co-simulation master does per communication point:
 
 1. the trivial FMU (``examples/trivial_fmu/``: same inputs/outputs, copies them) — the floor that
    pythonfmu's C++/Python bridge and fmpy's ctypes calls cost;
-2. the full-scene FMU with each registered method (small grids for discretised methods);
+2. the full-scene FMU with each registered method (small grids for discretised methods), and
+   with Johnson–Vermeulen once more with pythonfmu's generic binary instead of this project's
+   FMI wrapper (``wheel_rail_fmu/native``);
 3. each shipped scene's FMU with its default method, against the full FMU with the same method.
 
 Times are the best of R repeats of N steps (µs per step). Inputs change every step.
@@ -22,11 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+import contact_core as cc
+from wheel_rail_fmu.build import build
 
-import contact_core as cc  # noqa: E402
-from build_fmu import build  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 #: Small grids for the discretised methods (per-option overrides, applied if the method has them).
 SMALL_OPTIONS = {"nx": 10, "ny": 10, "mx": 10, "my": 10}
@@ -124,10 +125,13 @@ def main(argv: list[str] | None = None) -> int:
     a = p.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="bench_fmu_") as tmp:
         out = Path(a.out or tmp)
-        fmus = {"trivial": build_trivial(out / "trivial"), "full": build("full", out=out / "full")}
+        fmus = {"trivial": build_trivial(out / "trivial"), "full": build("full", out=out / "full"),
+                "generic": build("full", out=out / "generic", wrapper="pythonfmu")}
         cases = {"trivial": (fmus["trivial"], None)}
         for m in cc.methods():
             cases[f"full/{m}"] = (fmus["full"], method_start(m))
+        jv = "johnson_vermeulen"
+        cases["generic"] = (fmus["generic"], method_start(jv))
         for name in cc.scenes():
             sc = cc.load_scene(name)
             if name != "full":
@@ -143,6 +147,8 @@ def main(argv: list[str] | None = None) -> int:
             small = len(method_start(m)) > 1
             label = f"full, {m}" + (" (small grid)" if small else "")
             print(f"{label:<36}{t[f'full/{m}']:>10.2f}{t[f'full/{m}'] / t['trivial']:>11.2f}")
+        label = f"full, {jv}, pythonfmu's binary"
+        print(f"{label:<36}{t['generic']:>10.2f}{t['generic'] / t['trivial']:>11.2f}")
         print("\nper scene: its FMU with its default method vs the full FMU with the same method")
         print(f"{'scene':<16}{'method':<20}{'µs/step':>10}{'full':>10}{'ratio':>9}")
         for name in cc.scenes():

@@ -1,6 +1,7 @@
 """Shared test data: a default wheel/rail case and cheap options for the discretised methods."""
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -24,3 +25,31 @@ def wheel_rail_case() -> dict:
     E, nu, N = 210e9, 0.28, 100e3
     p = cc.hertz_from_radii(N, 0.46, float("inf"), 0.3, E, nu)
     return dict(N=N, mu=0.3, a=p.a, b=p.b, G=cc.shear_modulus(E, nu), nu=nu)
+
+
+#: The shipped scenes, each built into an FMU once per session by the ``fmus`` fixture.
+SCENES = ("traction", "tangent_track", "curving", "full")
+
+
+@pytest.fixture(scope="session")
+def fmus(tmp_path_factory) -> dict[str, Path]:
+    """Each shipped scene's FMU with its default method (wheel_rail_fmu.build)."""
+    from wheel_rail_fmu.build import build
+    out = tmp_path_factory.mktemp("fmus")
+    return {name: build(name, out=out) for name in SCENES}
+
+
+@pytest.fixture(scope="session")
+def other_version(tmp_path_factory) -> Path:
+    """The traction FMU with linear theory, built from a copy of contact_core whose linear law
+    doubles Fx: another version of the library."""
+    from wheel_rail_fmu.build import build
+    tmp = tmp_path_factory.mktemp("v2")
+    core = tmp / "contact_core"
+    shutil.copytree(Path(cc.__file__).parent, core,
+                    ignore=shutil.ignore_patterns("__pycache__"))
+    text = (core / "linear.py").read_text()
+    assert "Fx = -G * c2 * c11 * xi" in text
+    (core / "linear.py").write_text(text.replace("Fx = -G * c2 * c11 * xi",
+                                                 "Fx = -2.0 * G * c2 * c11 * xi"))
+    return build("traction", "linear", tmp, core=core, name="v2")

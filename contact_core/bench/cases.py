@@ -88,9 +88,13 @@ class Case:
                 "a": self.a, "b": self.b, "G": self.G, "nu": self.nu}
 
     def fmu_parameters(self) -> dict[str, float]:
-        """FMU parameters (start values) that reproduce this case's geometry and material."""
+        """FMU parameters (start values) that reproduce this case's geometry and material (the
+        FMU's finite form: a straight profile has radius 0)."""
+        def finite(R: float) -> float:
+            return 0.0 if math.isinf(R) else R
         return {"E": self.E, "nu": self.nu, "R_wheel": self.R_wheel,
-                "R_wheel_profile": self.R_wheel_profile, "R_rail_profile": self.R_rail_profile}
+                "R_wheel_profile": finite(self.R_wheel_profile),
+                "R_rail_profile": finite(self.R_rail_profile)}
 
 
 def load_spec(path: str | Path | None = None) -> dict[str, Any]:

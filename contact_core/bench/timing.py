@@ -13,7 +13,7 @@ In-process
     that it lasts about ``target`` seconds (1 for slow methods): per call = total / n.
 
 FMU
-    The ``full``-scene FMU (built once by ``build_fmu.build`` and cached under ``build_dir`` by a
+    The ``full``-scene FMU (built once by ``wheel_rail_fmu.build.build`` and cached under ``build_dir`` by a
     hash of the sources) is instantiated through fmpy's ``FMU2Slave`` once per (setting, a/b), with
     the ``method`` and option parameters of the setting and the radii of the a/b
     (:meth:`Case.fmu_parameters`; the FMU derives a, b from Hertz at each step's N, the same
@@ -27,10 +27,8 @@ from __future__ import annotations
 
 import gc
 import hashlib
-import importlib.util
 import math
 import shutil
-import sys
 import tempfile
 import time
 import warnings
@@ -111,42 +109,23 @@ def time_inprocess(settings: Sequence[Setting], cases: Sequence[Case], repeats: 
 # FMU
 # ---------------------------------------------------------------------------------------------
 
-def repo_root() -> Path | None:
-    """The source checkout holding ``build_fmu.py`` and ``fmu_src/`` (None if not available)."""
-    root = Path(api.__file__).resolve().parents[1]
-    ok = (root / "build_fmu.py").is_file() and (root / "fmu_src").is_dir()
-    return root if ok else None
-
-
-def _load_build_fmu(root: Path):
-    spec = importlib.util.spec_from_file_location("build_fmu", root / "build_fmu.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules.setdefault("build_fmu", mod)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-def _source_hash(root: Path) -> str:
+def _source_hash() -> str:
+    import wheel_rail_fmu
     h = hashlib.sha256()
-    files = [root / "build_fmu.py", root / "pyproject.toml"]
-    for d in (root / "contact_core", root / "fmu_src"):
-        files += [f for f in d.rglob("*") if f.is_file() and "__pycache__" not in f.parts
-                  and f.suffix not in (".pyc", ".nbi", ".nbc")]
-    for f in sorted(files):
-        h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes())
+    for d in (Path(api.__file__).parent, Path(wheel_rail_fmu.__file__).parent):
+        for f in sorted(f for f in d.rglob("*") if f.is_file() and "__pycache__" not in f.parts
+                        and f.suffix not in (".pyc", ".nbi", ".nbc")):
+            h.update(f.relative_to(d.parent).as_posix().encode() + b"\0" + f.read_bytes())
     return h.hexdigest()[:16]
 
 
 def cached_fmu(build_dir: str | Path) -> Path:
     """The full-scene FMU, built once per version of the sources into ``build_dir/<hash>/``."""
-    root = repo_root()
-    if root is None:
-        raise FileNotFoundError("build_fmu.py / fmu_src not found next to contact_core: the FMU "
-                                "can only be built from a source checkout")
-    out = Path(build_dir) / _source_hash(root)
+    from wheel_rail_fmu.build import build
+    out = Path(build_dir) / _source_hash()
     fmu = out / "WheelRailContact.fmu"
     if not fmu.is_file():
-        _load_build_fmu(root).build("full", out=out)
+        build("full", out=out, name=fmu.stem)
     return fmu
 
 

@@ -189,6 +189,46 @@ class Exact(ContactMethod):
         o["tol"] = float(t)
         self._tables: dict = {}
 
+    #: Keys of the warm state (see :meth:`_step_impl`): scalar tags, the solution's normalised
+    #: tractions and creepages, and optionally those it was started from (the secant).
+    _WARM_TAGS = ("mx", "my", "scale", "saturation", "a_over_b", "nu")
+    _WARM_FIELDS = ("px", "py", "sigma")
+    _WARM_PREVIOUS = ("prev_px", "prev_py", "prev_sigma")
+
+    @classmethod
+    def check_warm_state(cls, warm_state: Any) -> None:
+        """A warm state read from outside: the keys :meth:`_step_impl` writes, finite numbers,
+        tractions of shape (my, mx) and creepage vectors of length 3 (:meth:`_initial` relies
+        on these shapes once the tags match the grid)."""
+        if warm_state is None:
+            return
+        st = warm_state
+        keys = {"method", *cls._WARM_TAGS, *cls._WARM_FIELDS}
+        if not isinstance(st, dict) or not keys <= set(st) <= keys | set(cls._WARM_PREVIOUS):
+            raise ValueError(f"the warm state must have the keys {sorted(keys)} (and optionally "
+                             f"{list(cls._WARM_PREVIOUS)} together)")
+        if 0 < len(set(st) & set(cls._WARM_PREVIOUS)) < 3:
+            raise ValueError(f"the warm state has only some of {list(cls._WARM_PREVIOUS)}")
+        if st["method"] != cls.name:
+            raise ValueError(f"the warm state is of method {st['method']!r}, not {cls.name!r}")
+        for k in cls._WARM_TAGS:
+            v = st[k]
+            if type(v) not in (int, float) or not math.isfinite(v):
+                raise ValueError(f"warm state {k}={v!r} is not a finite number")
+        mx, my = st["mx"], st["my"]
+        if not (mx == int(mx) and my == int(my) and 4 <= mx <= 400 and 4 <= my <= 400):
+            raise ValueError(f"warm state grid {mx!r} x {my!r} is out of range: allowed whole "
+                             "numbers 4..400")
+        shapes = {"px": (int(my), int(mx)), "py": (int(my), int(mx)), "sigma": (3,)}
+        for k in (*cls._WARM_FIELDS, *cls._WARM_PREVIOUS):
+            if k not in st:
+                continue
+            a = st[k]
+            want = shapes[k.removeprefix("prev_")]
+            if not (isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == want
+                    and np.isfinite(a).all()):
+                raise ValueError(f"warm state {k} must be a finite float64 array of shape {want}")
+
     def _kernels(self, ratio: float, nu: float) -> tuple[np.ndarray, ...]:
         key = (ratio, nu)
         k = self._tables.get(key)

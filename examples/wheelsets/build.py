@@ -3,7 +3,7 @@
     python examples/wheelsets/build.py [--out DIR] [--contact SCENE:METHOD ...]
 
 Writes ``TangentTrackWheelset.fmu``, ``CurvingWheelset.fmu`` and ``DrivenWheelsetFMU.fmu``. With
-``--contact`` it also builds contact FMUs by calling the project's ``build_fmu.py`` (one per
+``--contact`` it also builds contact FMUs with ``wheel_rail_fmu.build`` (one per
 ``SCENE:METHOD``, named ``WheelRailContact_<scene>_<method>.fmu``), so a run has everything in one
 folder. Each wheelset FMU bundles its script, ``wheelset_dynamics.py`` (the equations) and
 ``wheelset_fmu_common.py`` (FMI plumbing). Run it in its own process (as ``make`` and the tests do):
@@ -12,7 +12,6 @@ pythonfmu imports the scripts by module name while building.
 from __future__ import annotations
 
 import argparse
-import subprocess
 import sys
 from pathlib import Path
 
@@ -44,12 +43,10 @@ def contact_fmu_name(scene: str, method: str) -> str:
     return f"WheelRailContact_{scene}_{method}"
 
 
-def build_contact(scene: str, method: str, out: Path, python: str = sys.executable) -> Path:
-    """Build a contact FMU with the project's build_fmu.py (a separate process)."""
-    name = contact_fmu_name(scene, method)
-    subprocess.run([python, str(ROOT / "build_fmu.py"), "--scene", scene, "--method", method,
-                    "--out", str(out), "--name", name], check=True, stdout=subprocess.DEVNULL)
-    return out / f"{name}.fmu"
+def build_contact(scene: str, method: str, out: Path) -> Path:
+    """Build a contact FMU (:func:`wheel_rail_fmu.build.build`)."""
+    from wheel_rail_fmu.build import build
+    return build(scene, method, out, name=contact_fmu_name(scene, method))
 
 
 def main(argv=None) -> int:

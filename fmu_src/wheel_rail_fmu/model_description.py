@@ -1,10 +1,10 @@
 """The FMU's model description: which variables a build exposes, and the XML pythonfmu omits.
 
 Separation of concerns (as in FMPy): this module decides *what* the FMU declares; the slave
-(``wheel_rail_contact.py``) only maps values; ``build_fmu.py`` packs the archive.
+(:mod:`.slave`) only maps values; :mod:`.build` packs the archive.
 
 Which variables: the build bakes a small JSON file (:data:`BUILD_CONFIG`) into the FMU's resources;
-the slave reads it when instantiated (pythonfmu instantiates it once at build time to write
+the slave reads it when instantiated (the build instantiates it once to write
 modelDescription.xml, and the host at run time: both see the same resources folder), and
 :func:`variables_for` turns the scene's effects into the variable list:
 
@@ -22,7 +22,8 @@ nor ``ModelStructure/InitialUnknowns``: adds ``UnitDefinitions`` and each Real's
 rebuilds ``ModelStructure`` with ``Outputs`` (each with its input dependencies) and
 ``InitialUnknowns`` (every output has ``initial="calculated"``, FMI 2.0 sec. 2.2.8, so each must be listed; no dependencies
 attribute there = depends on all knowns, i.e. inputs and parameters); writes Real start values
-round-trip exactly (``repr``) with ``INF`` for infinity (xs:double); sets a deterministic GUID and
+round-trip exactly (``repr``) and finite (hosts such as OMSimulator refuse infinite values: a
+straight profile radius is 0); sets a deterministic GUID and
 drops ``generationDateAndTime`` unless ``SOURCE_DATE_EPOCH`` is set (reproducible builds).
 """
 from __future__ import annotations
@@ -101,10 +102,10 @@ PHYSICAL_PARAMETERS: dict[str, tuple[str, float, str]] = {
     "E": ("Pa", 210e9, "Young's modulus of wheel and rail (same material), 0 < E < inf"),
     "nu": ("1", 0.28, "Poisson's ratio of wheel and rail, 0 <= nu < 0.5"),
     "R_wheel": ("m", 0.46, "Wheel rolling radius (longitudinal curvature), 0 < R_wheel < inf"),
-    "R_wheel_profile": ("m", math.inf, "Transverse radius of the wheel profile at the contact "
-                        "(negative: concave; inf: conical tread)"),
-    "R_rail_profile": ("m", 0.3, "Rail crown radius at the contact (convex positive); "
-                       "1/R_wheel_profile + 1/R_rail_profile > 0"),
+    "R_wheel_profile": ("m", 0.0, "Transverse radius of the wheel profile at the contact "
+                        "(negative: concave; 0: straight, i.e. a conical tread)"),
+    "R_rail_profile": ("m", 0.3, "Rail crown radius at the contact (convex positive; 0: "
+                       "straight); 1/R_wheel_profile + 1/R_rail_profile > 0"),
 }
 MU_DEFAULT = 0.3
 
@@ -152,7 +153,9 @@ def option_parameters(methods: dict[str, type]) -> list[VarSpec]:
 
 
 _BASE_NAMES = ("xi", "eta", "phi", "N", "mu", "Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction",
-               "method_used", "method")
+               "method_used", "method", "invalid_input")
+#: What a step with a NaN or infinite input returns (parameter ``invalid_input``).
+INVALID_INPUT_CHOICES = ("discard", "error")
 
 
 def variables_for(effects: tuple[str, ...], method: str, methods: dict[str, type],
@@ -208,7 +211,11 @@ def variables_for(effects: tuple[str, ...], method: str, methods: dict[str, type
     ]
 
     params = [VarSpec("method", "String", "parameter", "fixed", "Contact method, one of: "
-                      + ", ".join(methods), start=method, initial="exact")]
+                      + ", ".join(methods), start=method, initial="exact"),
+              VarSpec("invalid_input", "String", "parameter", "fixed", "Status of a step with a "
+                      "NaN or infinite input: 'discard' (fmi2Discard, the host may retry) or "
+                      "'error' (fmi2Error, for hosts that go on after fmi2Discard)",
+                      start=INVALID_INPUT_CHOICES[0], initial="exact")]
     if "saturation" in eff and "variable_friction" not in eff:
         params.append(VarSpec("mu", "Real", "parameter", "fixed", "Friction coefficient, "
                               "0 <= mu < inf", "1", MU_DEFAULT, "exact"))
@@ -244,11 +251,9 @@ def _override(v: VarSpec, overrides: dict[str, Any]) -> VarSpec:
 # XML post-processing
 # ----------------------------------------------------------------------------------------------
 
-def _format_real(x: float) -> str:
-    if math.isinf(x):
-        return "INF" if x > 0 else "-INF"
-    if math.isnan(x):
-        return "NaN"
+def _format_real(name: str, x: float) -> str:
+    if not math.isfinite(x):
+        raise ValueError(f"start value {name}={x!r} is not finite: allowed a finite number")
     return repr(float(x))
 
 
@@ -286,7 +291,7 @@ def finalize_model_description(root: Element, specs: list[VarSpec], guid: str,
         if spec.unit and spec.type == "Real":
             typed.set("unit", spec.unit)
         if spec.type == "Real" and "start" in typed.attrib:
-            typed.set("start", _format_real(float(typed.get("start"))))
+            typed.set("start", _format_real(name, float(typed.get("start"))))
     if set(index) != set(by_name):
         raise RuntimeError(f"model variables {sorted(index)} differ from the specification "
                            f"{sorted(by_name)}")

@@ -1,0 +1,109 @@
+"""An FMU instance driven through fmpy's ``FMU2Slave``, with its log messages kept (host side).
+
+For tests, benchmarks and examples: values by name, typed setters/getters, statuses as fmpy's
+``FMICallException`` (``.status``), and every message the FMU logs, counted per status (the
+last :data:`KEEP` kept as text, so a long run does not grow).
+"""
+from __future__ import annotations
+
+import atexit
+import shutil
+from collections import Counter, deque
+from ctypes import byref
+from pathlib import Path
+from typing import Any, Mapping
+
+from fmpy import calloc, extract, free, read_model_description
+from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+from fmpy.logging import addLoggerProxy
+
+#: How many log messages an instance keeps as text.
+KEEP = 1000
+_unzipped: dict[Path, str] = {}
+
+
+def unzipped(path: str | Path) -> str:
+    """The folder an FMU is extracted to (once per process; removed at exit)."""
+    path = Path(path).resolve()
+    if path not in _unzipped:
+        _unzipped[path] = extract(str(path))
+        atexit.register(shutil.rmtree, _unzipped[path], True)
+    return _unzipped[path]
+
+
+class FmuInstance:
+    """One co-simulation instance of the FMU at ``path`` (see the module docstring).
+
+    ``start``: start values set in initialisation mode; ``initialize=False`` stops after
+    ``fmi2Instantiate`` (call :meth:`init`). ``step(h, **inputs)`` sets inputs and does one step.
+    """
+
+    def __init__(self, path: str | Path, name: str = "instance",
+                 start: Mapping[str, Any] | None = None, initialize: bool = True,
+                 logging_on: bool = True, start_time: float = 0.0) -> None:
+        self.md = read_model_description(str(path))
+        self.vars = {v.name: v for v in self.md.modelVariables}
+        self.messages: deque[tuple[int, str]] = deque(maxlen=KEEP)
+        self.counts: Counter[int] = Counter()
+
+        def logger(component, instance_name, status, category, message):
+            self.counts[status] += 1
+            self.messages.append((status, message.decode("utf-8", "replace")))
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(byref(cb))
+        self._callbacks = cb  # the ctypes callbacks must outlive the instance
+        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=unzipped(path),
+                             modelIdentifier=self.md.coSimulation.modelIdentifier,
+                             instanceName=name)
+        self.fmu.instantiate(callbacks=cb, loggingOn=logging_on)
+        self.t = start_time
+        if initialize:
+            self.init(start)
+
+    def init(self, start: Mapping[str, Any] | None = None) -> None:
+        """Set up, enter initialisation mode, set ``start`` values, exit initialisation mode."""
+        self.fmu.setupExperiment(startTime=self.t)
+        self.fmu.enterInitializationMode()
+        self.set(**(start or {}))
+        self.fmu.exitInitializationMode()
+
+    def set(self, **values: Any) -> None:
+        for name, value in values.items():
+            v = self.vars[name]
+            setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger,
+                      "Boolean": self.fmu.setBoolean, "String": self.fmu.setString}[v.type]
+            setter([v.valueReference], [value])
+
+    def get(self, *names: str) -> list:
+        out = []
+        for name in names:
+            v = self.vars[name]
+            getter = {"Real": self.fmu.getReal, "Integer": self.fmu.getInteger,
+                      "Boolean": self.fmu.getBoolean, "String": self.fmu.getString}[v.type]
+            value = getter([v.valueReference])[0]
+            out.append(value.decode() if isinstance(value, bytes) else value)
+        return out
+
+    def step(self, h: float = 1e-3, **inputs: float) -> None:
+        """Set ``inputs`` and do one step of size ``h`` (fmpy raises on a status above warning)."""
+        self.set(**inputs)
+        self.fmu.doStep(self.t, h)
+        self.t += h
+
+    def errors(self, least: int = 3) -> list[str]:
+        """The kept messages logged with a status >= ``least`` (3: error)."""
+        return [m for s, m in self.messages if s >= least]
+
+    def free(self) -> None:
+        self.fmu.freeInstance()
+
+    def __enter__(self) -> "FmuInstance":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.free()

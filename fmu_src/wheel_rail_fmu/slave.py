@@ -1,0 +1,329 @@
+"""The FMI 2.0 co-simulation slave: a thin adapter from FMI variables onto ``contact_core``.
+
+No physics here: every step is :meth:`contact_core.WheelRailEvaluator.evaluate`. What this class
+does: declare the variables the build chose (:mod:`.model_description`), follow the FMI 2.0
+co-simulation state machine (sec. 4.2.4) and the variables' variability, build the evaluator from
+the parameters at ``fmi2ExitInitializationMode``, map inputs and outputs per step, and save and
+restore FMU states (:mod:`.state`).
+
+Statuses (FMI 2.0 sec. 2.1.3), with this project's FMI wrapper (``native/fmi2_python.c``), which
+tells the slave so with ``fmi_error_status=True`` and logs an exception's text before returning
+its status:
+
+* NaN or infinite input: ``fmi2DoStep`` refuses the step with ``fmi2Discard`` (the parameter
+  ``invalid_input="error"`` makes it ``fmi2Error``), the message names the variable, outputs keep
+  their last finite values and the instance stays usable;
+* invalid parameter: ``fmi2ExitInitializationMode`` returns ``fmi2Error`` with the parameter and
+  its allowed range; the parameters may be corrected and the call repeated;
+* a fixed parameter or an output set when it may not be, an unknown value reference, a call in
+  the wrong mode, a foreign or corrupted FMU state: ``fmi2Error``, nothing changed;
+* ``fmi2Fatal`` never (it means the state of all instances is corrupted).
+
+Under pythonfmu's generic binary (the fallback where no C compiler was available), a Python
+exception is ``fmi2Fatal`` and makes the binary release references twice, which crashes the
+host; so there the slave raises nothing: it logs the error, leaves its state unchanged and
+returns normally (``fmi2OK``), and ``fmi2DoStep`` of an instance that could not be initialised
+returns ``fmi2Discard``.
+"""
+from __future__ import annotations
+
+from typing import Any, Callable, Mapping
+
+from . import state as fmu_state
+from .model_description import (INVALID_INPUT_CHOICES, MU_DEFAULT, BuildConfig, VarSpec,
+                                finalize_model_description, variables_for)
+from .runtime import contact_core, load_notices, pythonfmu
+
+Fmi2Status = pythonfmu.enums.Fmi2Status
+_VAR_TYPES = {"Real": pythonfmu.Real, "Integer": pythonfmu.Integer,
+              "Boolean": pythonfmu.Boolean, "String": pythonfmu.String}
+_CONVERT: dict[str, Callable[[Any], Any]] = {"Real": float, "Integer": int, "Boolean": bool,
+                                              "String": str}
+_ZERO = {"Real": 0.0, "Integer": 0, "Boolean": False, "String": ""}
+#: FMI options of the model description (pythonfmu's names).
+MODEL_OPTIONS = {"canGetAndSetFMUstate": True, "canSerializeFMUstate": True,
+                 "needsExecutionTool": False}
+
+
+class FmiStatusError(Exception):
+    """Raised to the FMI wrapper: it logs the text and the call returns ``fmi_status``."""
+
+    def __init__(self, message: str, status: int = Fmi2Status.error) -> None:
+        super().__init__(message)
+        self.fmi_status = int(status)
+
+
+class WheelRailContact(pythonfmu.Fmi2Slave):
+
+    author = "contact_core contributors"
+    license = "Apache-2.0"
+    version = "0.1.0"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self._raises = kwargs.get("fmi_error_status") is True
+        build = BuildConfig.load(self.resources)
+        self._build = build
+        self.guid = build.guid
+        self.description = (f"Wheel-rail rolling contact (Kalker's theories, contact_core), scene "
+                            f"'{build.scene}': {build.scene_description}")
+        self._specs = variables_for(build.effects, build.method, contact_core.METHODS,
+                                    build.parameters)
+        self._names = {s.name for s in self._specs}
+        # Inputs of effects the scene leaves out are 0 (the core requires that); mu is a parameter
+        # or an input, or unused (no saturation: the core's mu -> inf limit).
+        self.xi = self.eta = self.phi = 0.0
+        self.mu = MU_DEFAULT
+        self._by_vr: dict[int, VarSpec] = {}
+        self._refusal = Fmi2Status.discard
+        self._mode = "instantiated"
+        self._t0 = 0.0
+        self._evaluator: contact_core.WheelRailEvaluator | None = None
+        for spec in self._specs:
+            if hasattr(type(self), spec.name) or spec.name.startswith("_"):
+                raise RuntimeError(f"variable name {spec.name!r} clashes with the slave class")
+            setattr(self, spec.name, spec.start if spec.start is not None else _ZERO[spec.type])
+            var = _VAR_TYPES[spec.type](
+                spec.name, causality=pythonfmu.Fmi2Causality[spec.causality],
+                variability=pythonfmu.Fmi2Variability[spec.variability],
+                initial=pythonfmu.Fmi2Initial[spec.initial] if spec.initial else None,
+                description=spec.description)
+            self.register_variable(var)
+            self._by_vr[var.value_reference] = spec
+        # Per type, value reference -> name: what may be read, and what may be set per mode
+        # (FMI 2.0 sec. 4.2.4: fixed parameters only before fmi2ExitInitializationMode).
+        self._readable = {t: {vr: s.name for vr, s in self._by_vr.items() if s.type == t}
+                          for t in _CONVERT}
+        self._settable_by_mode = {
+            mode: {t: {vr: s.name for vr, s in self._by_vr.items() if s.type == t
+                       and (s.causality == "input" or (s.causality == "parameter"
+                                                       and mode != "step"))}
+                   for t in _CONVERT}
+            for mode in ("instantiated", "initialization", "step")}
+        self._settable = self._settable_by_mode["instantiated"]
+        for notice in load_notices():
+            self.log(notice, Fmi2Status.warning)
+
+    # -- model description ---------------------------------------------------------------------
+    def to_xml(self, model_options=MODEL_OPTIONS):
+        root = super().to_xml(model_options)
+        return finalize_model_description(root, self._specs, self.guid, self.description)
+
+    # -- statuses ------------------------------------------------------------------------------
+    def _reject(self, message: str, status: int = Fmi2Status.error) -> None:
+        """Refuse the current call with ``status`` (see the module docstring)."""
+        if self._raises:
+            raise FmiStatusError(message, status)
+        self.log(message, Fmi2Status(status))
+
+    def _enter(self, mode: str) -> None:
+        self._mode = mode
+        self._settable = self._settable_by_mode.get(mode, {t: {} for t in _CONVERT})
+        if mode == "step":
+            self._refusal = (Fmi2Status.discard if self.invalid_input == "discard"
+                             else Fmi2Status.error)
+
+    def _expect_mode(self, where: str, *modes: str) -> bool:
+        if self._mode in modes:
+            return True
+        self._reject(f"{where} is not allowed in {self._mode} mode (allowed in: "
+                     f"{', '.join(modes)})")
+        return False
+
+    # -- state machine -------------------------------------------------------------------------
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        if self._expect_mode("fmi2SetupExperiment", "instantiated"):
+            self._t0 = float(start_time)
+
+    def enter_initialization_mode(self):
+        if self._expect_mode("fmi2EnterInitializationMode", "instantiated"):
+            self._enter("initialization")
+
+    def exit_initialization_mode(self):
+        if not self._expect_mode("fmi2ExitInitializationMode", "initialization"):
+            return
+        try:
+            evaluator = contact_core.WheelRailEvaluator(self._config())
+        except ValueError as e:  # names the parameter and its allowed range
+            self._reject(f"fmi2ExitInitializationMode: invalid parameter: {e}")
+            return
+        self._evaluator = evaluator
+        # Outputs have initial="calculated": compute them from the inputs known now.
+        if self._step(self._t0, "fmi2ExitInitializationMode", Fmi2Status.error):
+            self._enter("step")
+        else:
+            self._evaluator = None
+
+    def terminate(self):
+        if self._expect_mode("fmi2Terminate", "step", "initialization"):
+            self._enter("terminated")
+
+    def do_step(self, current_time, step_size):
+        if self._mode != "step":
+            self._expect_mode(f"fmi2DoStep at t={current_time!r}", "step")
+            return False
+        return self._step(current_time, "fmi2DoStep", self._refusal)
+
+    def _step(self, t: float, where: str, refusal: int) -> bool:
+        ev = self._evaluator
+        try:
+            r = ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
+        except ValueError as e:  # names the input and its allowed range
+            self._reject(f"{where} at t={t!r} refused: {e}; outputs keep their last values",
+                         refusal)
+            return False
+        except Exception as e:  # a method's failure: the step cannot be done
+            self._reject(f"{where} at t={t!r} failed: {type(e).__name__}: {e}")
+            return False
+        self.Fx = r.Fx
+        self.Fy = r.Fy
+        self.Mz = r.Mz
+        self.a = ev.a
+        self.b = ev.b
+        self.p0 = ev.p0
+        self.slip_fraction = r.slip_fraction
+        self.method_used = ev.method_code
+        if not r.converged:
+            self.log(f"{where} at t={t!r}: method {r.method!r} stopped after {r.iterations} "
+                     f"iterations at residual {r.residual!r}", Fmi2Status.warning)
+        return True
+
+    def _config(self, values: Mapping[str, Any] | None = None) -> contact_core.WheelRailConfig:
+        """The evaluator's configuration from the parameters (this instance's, or ``values``)."""
+        def get(name: str) -> Any:
+            return values[name] if values is not None else getattr(self, name)
+        choice = get("invalid_input")
+        if choice not in INVALID_INPUT_CHOICES:
+            raise ValueError(f"invalid_input={choice!r} is out of range: allowed "
+                             f"{' or '.join(map(repr, INVALID_INPUT_CHOICES))}")
+        method = get("method")
+        accepted = getattr(contact_core.METHODS.get(method), "default_options", {})
+        options = {}
+        for spec in self._specs:
+            if spec.option is not None:
+                owner, opt = spec.option  # owner "*": shared by every method with this option
+                if owner in (method, "*") and opt in accepted:
+                    options[opt] = get(spec.name)
+        return contact_core.WheelRailConfig(
+            method=method, effects=self._build.effects,
+            mu=float(get("mu")) if "mu" in self._names else MU_DEFAULT, E=float(get("E")),
+            nu=float(get("nu")), R_wheel=float(get("R_wheel")),
+            R_wheel_profile=float(get("R_wheel_profile")),
+            R_rail_profile=float(get("R_rail_profile")), options=options)
+
+    # -- values --------------------------------------------------------------------------------
+    def _lookup(self, vr: int, kind: str) -> VarSpec | None:
+        spec = self._by_vr.get(vr)
+        if spec is None or spec.type != kind:
+            self._reject(f"valueReference {vr} is not a {kind} variable of this FMU")
+            return None
+        return spec
+
+    def _get(self, vrs, kind: str) -> list:
+        names = self._readable[kind]
+        try:
+            return [getattr(self, names[vr]) for vr in vrs]
+        except KeyError:
+            for vr in vrs:
+                self._lookup(vr, kind)
+            return [_ZERO[kind]] * len(vrs)
+
+    def _set(self, vrs, values, kind: str) -> None:
+        settable = self._settable[kind]
+        try:
+            names = [settable[vr] for vr in vrs]
+        except KeyError:  # say why, change nothing
+            self._refuse_set(vrs, kind)
+            return
+        for name, value in zip(names, values):
+            setattr(self, name, value)
+
+    def _refuse_set(self, vrs, kind: str) -> None:
+        if self._mode == "terminated":
+            self._reject(f"fmi2Set{kind} is not allowed after fmi2Terminate")
+            return
+        for vr in vrs:
+            spec = self._lookup(vr, kind)
+            if spec is None:
+                return
+            if spec.causality == "output":
+                self._reject(f"{spec.name} is an output: it cannot be set")
+                return
+            if spec.variability == "fixed" and vr not in self._settable[kind]:
+                self._reject(f"{spec.name} is a fixed parameter: it can be set only before "
+                             f"fmi2ExitInitializationMode (it keeps its value "
+                             f"{getattr(self, spec.name)!r})")
+                return
+
+    def get_real(self, vrs):
+        return self._get(vrs, "Real")
+
+    def get_integer(self, vrs):
+        return self._get(vrs, "Integer")
+
+    def get_boolean(self, vrs):
+        return self._get(vrs, "Boolean")
+
+    def get_string(self, vrs):
+        return self._get(vrs, "String")
+
+    def set_real(self, vrs, values):
+        self._set(vrs, values, "Real")
+
+    def set_integer(self, vrs, values):
+        self._set(vrs, values, "Integer")
+
+    def set_boolean(self, vrs, values):
+        self._set(vrs, values, "Boolean")
+
+    def set_string(self, vrs, values):
+        self._set(vrs, values, "String")
+
+    # -- FMU state (the state object is its serialized form: an immutable snapshot) -------------
+    def _get_fmu_state(self) -> bytes:
+        values = {s.name: _CONVERT[s.type](getattr(self, s.name)) for s in self._specs}
+        ev = self._evaluator
+        return fmu_state.write(fmu_state.FmuState(self.guid, self._mode, values,
+                                                  ev.last if ev is not None else None))
+
+    def _restore(self, blob: bytes, where: str):
+        """Read and check a state; returns (state, evaluator) or None after rejecting it."""
+        try:
+            st = fmu_state.read(blob, self.guid,
+                                [(s.name, s.type, s.causality) for s in self._specs])
+            evaluator = None
+            if st.mode in ("step", "terminated"):
+                config = self._config(st.values)
+                ev = self._evaluator
+                evaluator = (ev if ev is not None and ev.config == config
+                             else contact_core.WheelRailEvaluator(config))
+                if st.result is not None and st.result.method != config.method:
+                    raise ValueError(f"the state's result is of method {st.result.method!r}, "
+                                     f"its parameters select {config.method!r}")
+        except ValueError as e:
+            self._reject(f"{where}: {e}; the instance keeps its state")
+            return None
+        return st, evaluator
+
+    def _check_fmu_state(self, state) -> None:
+        self._restore(state, "fmi2DeSerializeFMUstate")
+
+    def _set_fmu_state(self, state) -> None:
+        restored = self._restore(state, "fmi2SetFMUstate")
+        if restored is None:
+            return
+        st, evaluator = restored
+        for name, value in st.values.items():
+            setattr(self, name, value)
+        self._enter(st.mode)
+        if evaluator is not None:
+            evaluator.last = st.result
+        self._evaluator = evaluator
+
+    @staticmethod
+    def _fmu_state_to_bytes(state) -> bytes:
+        return bytes(state)
+
+    @staticmethod
+    def _fmu_state_from_bytes(state: bytes) -> bytes:
+        return bytes(state)  # checked by _check_fmu_state and again by _set_fmu_state

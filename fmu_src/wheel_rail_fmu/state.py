@@ -1,0 +1,209 @@
+"""Serialized FMU states: a data-only, versioned format that is checked before use (no pickle).
+
+Hosts save FMU states to files and exchange them (restarts, snapshots), so a state is untrusted
+input: it holds data only (JSON and raw numpy arrays, read with :func:`numpy.frombuffer`), and
+:func:`read` checks everything before the slave uses any of it.
+
+Layout (little-endian)::
+
+    magic     8 bytes    b"WRCSTATE"
+    version   uint32     FORMAT_VERSION
+    length    uint32     length of the header in bytes
+    header    JSON       {"guid", "mode", "values", "result", "arrays"}
+    arrays    raw data   each array of header["arrays"] ([dtype, shape]) in order, C order
+    checksum  32 bytes   SHA-256 of everything before it
+
+``values``: every FMU variable by name (Real as JSON numbers, which round-trip exactly; NaN only
+for inputs, which a host may have set). ``result``: the contact result the next step starts from
+(the exact solver's warm start), its arrays referenced as ``{"array": index}``.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import struct
+from dataclasses import dataclass
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+from .runtime import contact_core
+
+FORMAT_VERSION = 1
+MAGIC = b"WRCSTATE"
+#: Modes of the slave (FMI 2.0 sec. 4.2.4 state machine, co-simulation).
+MODES = ("instantiated", "initialization", "step", "terminated")
+_HEAD = struct.Struct("<8sII")
+_CHECKSUM = 32
+_DTYPES = {"<f8": np.float64, "|i1": np.int8}
+_MAX_HEADER = 1 << 20
+_MAX_ELEMENTS = 1 << 24
+_RESULT_FLOATS = ("Fx", "Fy", "Mz", "slip_fraction", "residual")
+_JSON_TYPES = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
+
+
+class StateError(ValueError):
+    """A serialized FMU state that cannot be used; the message says why."""
+
+
+@dataclass(frozen=True)
+class FmuState:
+    """What a state holds: the FMU's GUID, the slave's mode, every variable's value by name, and
+    the last contact result (None before the first loaded step)."""
+
+    guid: str
+    mode: str
+    values: Mapping[str, Any]
+    result: Any = None
+
+
+def write(state: FmuState) -> bytes:
+    """Serialize ``state`` (see the module docstring)."""
+    arrays: list[np.ndarray] = []
+    result = None
+    r = state.result
+    if r is not None:
+        warm = None
+        if r.warm_state is not None:
+            warm = {}
+            for key, value in r.warm_state.items():
+                if isinstance(value, np.ndarray):
+                    warm[key] = {"array": len(arrays)}
+                    arrays.append(value)
+                elif isinstance(value, (bool, int, float, str)):
+                    warm[key] = value
+                else:
+                    raise TypeError(f"warm state {key!r}: {type(value).__name__} is not "
+                                    "serializable")
+        result = {"method": r.method, "converged": bool(r.converged),
+                  "iterations": int(r.iterations), "warm_state": warm,
+                  **{k: float(getattr(r, k)) for k in _RESULT_FLOATS}}
+    specs = []
+    for a in arrays:
+        dtype = np.dtype(a.dtype).str
+        if dtype not in _DTYPES:
+            raise TypeError(f"warm state array of dtype {dtype} is not serializable")
+        specs.append([dtype, list(a.shape)])
+    header = json.dumps({"guid": state.guid, "mode": state.mode, "values": dict(state.values),
+                         "result": result, "arrays": specs}, sort_keys=True).encode()
+    body = b"".join([_HEAD.pack(MAGIC, FORMAT_VERSION, len(header)), header]
+                    + [np.ascontiguousarray(a).tobytes() for a in arrays])
+    return body + hashlib.sha256(body).digest()
+
+
+def read(blob: bytes, guid: str, variables: Iterable[tuple[str, str, str]]) -> FmuState:
+    """Parse and check a serialized state of the FMU ``guid`` whose variables are
+    ``(name, type, causality)``; raises :class:`StateError` naming the first problem."""
+    blob = bytes(blob)
+    if len(blob) < _HEAD.size + _CHECKSUM:
+        raise StateError(f"the state has {len(blob)} bytes: too short to be an FMU state")
+    magic, version, n = _HEAD.unpack_from(blob)
+    if magic != MAGIC:
+        raise StateError("the bytes are not a WheelRailContact FMU state (wrong magic number)")
+    if version != FORMAT_VERSION:
+        raise StateError(f"state format version {version} is not supported: this FMU reads "
+                         f"version {FORMAT_VERSION}")
+    body, checksum = blob[:-_CHECKSUM], blob[-_CHECKSUM:]
+    if hashlib.sha256(body).digest() != checksum:
+        raise StateError("the state is truncated or corrupted (checksum mismatch)")
+    if n > min(_MAX_HEADER, len(body) - _HEAD.size):
+        raise StateError(f"the state's header length {n} is out of range")
+    try:
+        header = json.loads(body[_HEAD.size:_HEAD.size + n].decode("utf-8"))
+    except (UnicodeDecodeError, ValueError) as e:
+        raise StateError(f"the state's header is not valid JSON: {e}") from None
+    _expect(isinstance(header, dict)
+            and set(header) == {"guid", "mode", "values", "result", "arrays"},
+            "the state's header does not have the fields guid, mode, values, result, arrays")
+    _expect(header["guid"] == guid, f"the state belongs to the FMU with GUID {header['guid']!r}, "
+            f"not to this one ({guid})")
+    _expect(header["mode"] in MODES, f"mode {header['mode']!r} is unknown: allowed {MODES}")
+    values = _values(header["values"], list(variables))
+    arrays = _arrays(header["arrays"], body[_HEAD.size + n:])
+    result = _result(header["result"], arrays)
+    return FmuState(guid, header["mode"], values, result)
+
+
+def _expect(condition: bool, message: str) -> None:
+    if not condition:
+        raise StateError(message)
+
+
+def _values(values: Any, variables: list[tuple[str, str, str]]) -> dict[str, Any]:
+    _expect(isinstance(values, dict), "the state's values are not a mapping")
+    names = [name for name, _, _ in variables]
+    _expect(sorted(values) == sorted(names),
+            f"the state's variables {sorted(values)} are not this FMU's {sorted(names)}")
+    for name, typ, causality in variables:
+        v = values[name]
+        if typ == "Real" and type(v) is int:  # JSON may write a whole float without ".0"
+            v = values[name] = float(v)
+        _expect(type(v) is _JSON_TYPES[typ], f"{name}={v!r} in the state is not of type {typ}")
+        if typ == "Real" and causality != "input":
+            _expect(math.isfinite(v), f"{name}={v!r} in the state is not finite")
+    return values
+
+
+def _arrays(specs: Any, data: bytes) -> list[np.ndarray]:
+    _expect(isinstance(specs, list) and len(specs) <= 64, "the state's array list is invalid")
+    arrays, offset = [], 0
+    for spec in specs:
+        ok = (isinstance(spec, list) and len(spec) == 2 and spec[0] in _DTYPES
+              and isinstance(spec[1], list) and len(spec[1]) <= 2
+              and all(type(d) is int and 0 <= d <= _MAX_ELEMENTS for d in spec[1]))
+        _expect(ok, f"array {spec!r} in the state is invalid: allowed [dtype, shape] with dtype "
+                f"{list(_DTYPES)} and at most 2 dimensions")
+        dtype = np.dtype(_DTYPES[spec[0]])
+        count = math.prod(spec[1])
+        _expect(count <= _MAX_ELEMENTS and offset + count * dtype.itemsize <= len(data),
+                "the state's arrays are larger than its data")
+        a = np.frombuffer(data, dtype, count, offset).reshape(spec[1]).copy()
+        _expect(dtype.kind != "f" or bool(np.isfinite(a).all()),
+                "an array in the state has non-finite values")
+        arrays.append(a)
+        offset += count * dtype.itemsize
+    _expect(offset == len(data), "the state has data after its arrays")
+    return arrays
+
+
+def _result(r: Any, arrays: list[np.ndarray]) -> Any:
+    if r is None:
+        _expect(not arrays, "the state has arrays but no result")
+        return None
+    keys = {"method", "converged", "iterations", "warm_state", *_RESULT_FLOATS}
+    _expect(isinstance(r, dict) and set(r) == keys, f"the state's result must have the fields "
+            f"{sorted(keys)}")
+    methods = contact_core.METHODS
+    _expect(r["method"] in methods, f"result method {r['method']!r} is unknown: allowed "
+            f"{list(methods)}")
+    _expect(type(r["converged"]) is bool and type(r["iterations"]) is int
+            and r["iterations"] >= 0, "the state's result has an invalid converged/iterations")
+    for k in _RESULT_FLOATS:
+        _expect(type(r[k]) in (int, float) and math.isfinite(r[k]),
+                f"result {k}={r[k]!r} in the state is not a finite number")
+    warm, used = r["warm_state"], set()
+    if warm is not None:
+        _expect(isinstance(warm, dict), "the state's warm state is not a mapping")
+        warm = dict(warm)
+        for key, value in warm.items():
+            if isinstance(value, dict):
+                i = value.get("array")
+                _expect(set(value) == {"array"} and type(i) is int and 0 <= i < len(arrays)
+                        and i not in used, f"warm state {key!r}: invalid array reference")
+                used.add(i)
+                warm[key] = arrays[i]
+            else:
+                _expect(type(value) in (bool, int, float, str) and
+                        (type(value) is not float or math.isfinite(value)),
+                        f"warm state {key!r}={value!r} is not a finite number or a string")
+    _expect(len(used) == len(arrays), "the state has arrays its result does not use")
+    try:
+        methods[r["method"]].check_warm_state(warm)
+    except ValueError as e:
+        raise StateError(f"the state's warm start does not fit method {r['method']!r}: {e}") \
+            from None
+    return contact_core.ContactResult(
+        float(r["Fx"]), float(r["Fy"]), float(r["Mz"]), r["method"],
+        slip_fraction=float(r["slip_fraction"]), converged=r["converged"],
+        iterations=r["iterations"], residual=float(r["residual"]), warm_state=warm)

@@ -1,0 +1,201 @@
+"""The WheelRailContact FMU outside fmpy's usual path: a C host with no Python of its own,
+libcosim (DNV's co-simulation engine, through libcosimpy) with two different contact FMUs,
+compiled code reused by a new process, no memory growth in long runs, and pythonfmu's generic
+binary as the fallback. References: contact_core.solve, the FMI 2.0 statuses."""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import read_model_description, simulate_fmu
+
+import contact_core as cc
+from wheel_rail_fmu.build import build
+
+ROOT = Path(__file__).resolve().parents[1]
+GEOM = (0.46, float("inf"), 0.3)
+E, NU = 210e9, 0.28
+
+
+def solve(method, scene, xi=0.0, eta=0.0, phi=0.0, N=1e5, mu=0.3):
+    p = cc.hertz_from_radii(N, *GEOM, E, NU)
+    return cc.solve(method, xi=xi, eta=eta, phi=phi, N=N, mu=mu, a=p.a, b=p.b,
+                    G=cc.shear_modulus(E, NU), nu=NU, effects=cc.load_scene(scene).effects)
+
+
+def test_c_host_without_python_setup(fmus, tmp_path):
+    """No LD_PRELOAD, no PYTHONPATH/PYTHONHOME: the wrapper links libpython and starts the Python
+    the FMU was built with. Statuses and messages as in fmpy; the process exits cleanly."""
+    gcc = shutil.which("gcc") or shutil.which("cc")
+    if not gcc:
+        pytest.skip("needs a C compiler")
+    import fmpy
+    headers = Path(fmpy.__file__).parent / "c-code"
+    host = tmp_path / "host"
+    subprocess.run([gcc, "-I", str(headers), str(ROOT / "tests/data/host.c"), "-o", str(host),
+                    "-ldl", "-lm"], check=True)
+    fmu = fmus["traction"]
+    shutil.unpack_archive(fmu, tmp_path / "fmu", "zip")
+    md = read_model_description(str(fmu))
+    vr = {v.name: str(v.valueReference) for v in md.modelVariables}
+    args = [str(host), str(tmp_path / "fmu/binaries/linux64/WheelRailContact.so"), md.guid,
+            (tmp_path / "fmu/resources").as_uri(), vr["xi"], vr["N"], vr["Fx"], vr["E"]]
+    out = subprocess.run(args, capture_output=True, text=True, timeout=300,
+                         env={"PATH": "/usr/bin:/bin", "HOME": os.environ.get("HOME", "/")})
+    lines = out.stdout.splitlines()
+    assert out.returncode == 0, out.stdout + out.stderr  # no crash at exit either
+    ref = solve("johnson_vermeulen", "traction", xi=1e-3).Fx
+    assert lines[:2] == ["init 0", "step 0"] and float(lines[2].split()[1]) == ref  # %.17g
+    # the refused step: its message first, then the status
+    assert lines[3].startswith("log c 2 fmi2DoStep") and "xi=nan" in lines[3]
+    assert lines[4] == "step 2"
+    # the invalid parameter: logged although logging is off, before fmi2Error is returned
+    assert lines[5].startswith("log d 3 ") and "E=-1.0 is out of range" in lines[5]
+    assert lines[6:] == ["init 3", "freed"]
+
+
+def _libcosim_run(paths: list[Path], inputs: dict[str, float], steps: int = 5,
+                  initial: bool = False):
+    """Run the FMUs ``paths`` in one libcosim execution with constant ``inputs`` (set as initial
+    values with ``initial``, else overridden at every step); their last Fx, Fy, Mz."""
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimManipulator import CosimManipulator
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    log_output_level(CosimLogLevel.ERROR)
+    execution = CosimExecution.from_step_size(step_size=int(1e6))  # 1 ms
+    manipulator = CosimManipulator.create_override()
+    observer = CosimObserver.create_last_value()
+    execution.add_manipulator(manipulator=manipulator)
+    execution.add_observer(observer=observer)
+    slaves = []
+    for k, path in enumerate(paths):
+        index = execution.add_local_slave(CosimLocalSlave(fmu_path=str(path),
+                                                          instance_name=f"contact{k}"))
+        vr = {v.name: v.valueReference for v in read_model_description(str(path)).modelVariables}
+        names = [n for n in inputs if n in vr]
+        if initial:
+            for n in names:
+                execution.real_initial_value(index, vr[n], inputs[n])
+        else:
+            manipulator.slave_real_values(index, [vr[n] for n in names],
+                                          [inputs[n] for n in names])
+        slaves.append((index, vr))
+    assert execution.simulate_until(target_time=int(steps * 1e6))
+    return [dict(zip(("Fx", "Fy", "Mz"), observer.last_real_values(
+        i, [vr[n] for n in ("Fx", "Fy", "Mz") if n in vr]))) for i, vr in slaves]
+
+
+def test_libcosim_runs_different_contact_fmus(fmus, other_version, tmp_path):
+    """A third-party FMI host with a thread pool: a traction FMU (Johnson–Vermeulen), a curving
+    FMU (FASTSIM) and a traction FMU built from another version of contact_core (linear theory
+    with Fx doubled, see conftest) in one execution, each equal to its own law."""
+    inputs = {"xi": 1e-3, "eta": -4e-4, "phi": 0.2, "N": 1e5}
+    traction, curving, v2 = _libcosim_run([fmus["traction"], fmus["curving"], other_version],
+                                          inputs)
+    r1 = solve("johnson_vermeulen", "traction", xi=1e-3)
+    r2 = solve("fastsim", "curving", **inputs)
+    r3 = solve("linear", "traction", xi=1e-3)
+    np.testing.assert_allclose([traction["Fx"]], [r1.Fx], rtol=1e-9, atol=0)
+    np.testing.assert_allclose([curving[k] for k in ("Fx", "Fy", "Mz")], [r2.Fx, r2.Fy, r2.Mz],
+                               rtol=1e-9, atol=0)
+    np.testing.assert_allclose([v2["Fx"]], [2.0 * r3.Fx], rtol=1e-9, atol=0)
+
+
+def test_libcosim_gets_the_message_before_the_error(fmus):
+    """libcosim ends its host on any non-OK status at initialisation; the reason must have been
+    logged by then (a separate process, which libcosim terminates)."""
+    code = (
+        "import runpy, sys\n"
+        "run = runpy.run_path(sys.argv[2])['_libcosim_run']\n"
+        "run([sys.argv[1]], {'xi': 1e-3, 'N': 1e5, 'E': -1.0}, initial=True)\n")
+    out = subprocess.run([sys.executable, "-c", code, str(fmus["traction"]), __file__],
+                         capture_output=True, text=True, timeout=300)
+    text = out.stdout + out.stderr
+    assert out.returncode != 0
+    logged = text.index("E=-1.0 is out of range: allowed 0 < E < inf")
+    assert "status=error" in text[:logged]
+
+
+def test_new_process_reuses_compiled_code(fmus, tmp_path):
+    """Numba's cache lives next to the verified copy of the FMU's code in the cache folder: a
+    second process compiles nothing (every kernel it calls is a cache hit)."""
+    exact = build("full", "exact", tmp_path)
+    code = (
+        "import sys, json, fmpy\n"
+        "from numba.core.registry import CPUDispatcher\n"
+        "for p in sys.argv[1:]:\n"
+        "    fmpy.simulate_fmu(p, stop_time=2e-3, output_interval=1e-3,\n"
+        "                      start_values={'N': 1e5, 'xi': 1e-3, 'eta': 1e-4, 'phi': 0.1})\n"
+        "hits = misses = 0\n"
+        "for name, mod in list(sys.modules.items()):\n"
+        "    if name.startswith('_wheel_rail_contact_'):\n"
+        "        for f in list(vars(mod).values()):\n"
+        "            if isinstance(f, CPUDispatcher):\n"
+        "                hits += sum(f.stats.cache_hits.values())\n"
+        "                misses += sum(f.stats.cache_misses.values())\n"
+        "print(json.dumps([hits, misses]))\n")
+    args = [sys.executable, "-c", code, str(exact), str(fmus["curving"])]
+    subprocess.run(args, check=True, capture_output=True)  # compiles if the cache is cold
+    hits, misses = json.loads(subprocess.run(args, check=True, capture_output=True,
+                                             text=True).stdout.splitlines()[-1])
+    assert misses == 0 and hits >= 5, (hits, misses)
+
+
+def test_no_memory_growth_in_long_runs():
+    """RSS over 1e5 refused steps with logging on, and over 300 instantiate/step/free cycles
+    (examples/bench_fmu_leaks.py, a fresh process)."""
+    out = subprocess.run([sys.executable, str(ROOT / "examples/bench_fmu_leaks.py"),
+                          "--wrapper", "native", "--json"], check=True, capture_output=True,
+                         text=True).stdout
+    r = json.loads(out.splitlines()[-1])["native"]
+    assert r["refused_messages"] >= 100_000
+    assert r["refused_mb"] <= 2.0, r
+    assert r["cycles_mb"] <= 3.0, r
+
+
+def test_pythonfmu_binary_fallback(tmp_path):
+    """Where no compiler exists the FMU carries pythonfmu's binary: same forces; an invalid
+    parameter is logged as an error and every step is refused (pythonfmu makes exceptions fatal
+    and then releases references twice, so the slave raises none there)."""
+    fmu = build("traction", out=tmp_path, wrapper="pythonfmu")
+    code = (
+        "import sys, math, fmpy, json\n"
+        "from fmpy.fmi1 import FMICallException\n"
+        "from wheel_rail_fmu.host import FmuInstance\n"
+        "r = fmpy.simulate_fmu(sys.argv[1], stop_time=1e-3, output_interval=1e-3,\n"
+        "                      start_values={'N': 1e5, 'xi': 1e-3})\n"
+        "bad = FmuInstance(sys.argv[1], 'bad', {'E': -1.0})\n"
+        "try:\n"
+        "    bad.step(xi=1e-3, N=1e5); refused = False\n"
+        "except FMICallException as e:\n"
+        "    refused = e.status == 2\n"
+        "print(json.dumps([float(r['Fx'][-1]), refused, bad.errors()]))\n")
+    out = subprocess.run([sys.executable, "-c", code, str(fmu)], check=True, capture_output=True,
+                         text=True, cwd=tmp_path).stdout
+    fx, refused, errors = json.loads(out.splitlines()[-1])
+    assert fx == solve("johnson_vermeulen", "traction", xi=1e-3).Fx
+    assert refused and any("E=-1.0 is out of range" in m for m in errors)
+
+
+def test_simulate_in_a_thread_pool_host(fmus):
+    """fmpy.simulate_fmu from worker threads (as hosts with thread pools call FMUs): each
+    instance is driven from its own thread; the interpreter lock is taken per call."""
+    from concurrent.futures import ThreadPoolExecutor
+    start = {"N": 1e5, "xi": 1e-3}
+
+    def one(_):
+        return simulate_fmu(str(fmus["traction"]), stop_time=5e-3, output_interval=1e-3,
+                            start_values=start)["Fx"][-1]
+
+    with ThreadPoolExecutor(4) as pool:
+        results = list(pool.map(one, range(8)))
+    assert set(results) == {solve("johnson_vermeulen", "traction", xi=1e-3).Fx}

@@ -1,0 +1,278 @@
+"""The WheelRailContact FMU in fmpy: equality with the core, instances, reset, FMI 2.0 statuses
+and variability, and isolation (each FMU runs the code it bundles).
+
+References: contact_core.solve (the FMU must reproduce it to the last bit), the FMI 2.0
+standard's statuses (sec. 2.1.3) and state machine (sec. 4.2.4)."""
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from fmpy import read_model_description, simulate_fmu
+from fmpy.fmi1 import FMICallException
+
+import contact_core as cc
+from conftest import options_for
+from wheel_rail_fmu.build import build
+from wheel_rail_fmu.entry import cache_root
+from wheel_rail_fmu.host import FmuInstance
+
+GEOM = (0.46, math.inf, 0.3)
+E, NU = 210e9, 0.28
+OUTPUTS = ("Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction")
+OK, WARNING, DISCARD, ERROR, FATAL = range(5)
+INPUTS = [dict(xi=1e-3, eta=-5e-4, phi=0.2, N=1e5, mu=0.3),
+          dict(xi=2e-3, eta=1e-4, phi=-0.1, N=8e4, mu=0.25),
+          dict(xi=-5e-4, eta=3e-4, phi=0.4, N=1.2e5, mu=0.35),
+          dict(xi=3e-3, eta=-2e-3, phi=0.0, N=9e4, mu=0.3)]
+
+
+def reference(method, xi=0.0, eta=0.0, phi=0.0, N=1e5, mu=0.3, warm=None, effects=None,
+              options=None, E=E):
+    """contact_core.solve with the Hertz patch of the FMU's default geometry: (result, outputs)."""
+    if N <= 0.0:
+        return warm, [0.0] * 7
+    p = cc.hertz_from_radii(N, *GEOM, E, NU)
+    r = cc.solve(method, xi=xi, eta=eta, phi=phi, N=N, mu=mu, a=p.a, b=p.b,
+                 G=cc.shear_modulus(E, NU), nu=NU, effects=effects, warm_start=warm,
+                 **(options_for(method) if options is None else options))
+    return r, [r.Fx, r.Fy, r.Mz, p.a, p.b, p.p0, r.slip_fraction]
+
+
+def outputs(inst: FmuInstance) -> list:
+    return inst.get(*[n for n in OUTPUTS if n in inst.vars])
+
+
+def status_of(call, *args, **kwargs) -> int:
+    """The FMI status of a call through fmpy (which raises above warning)."""
+    try:
+        call(*args, **kwargs)
+    except FMICallException as e:
+        return e.status
+    return OK
+
+
+def assert_rel(actual, expected, rtol=1e-12):
+    np.testing.assert_allclose(actual, expected, rtol=rtol, atol=0.0)
+
+
+def signal(names, n=12):
+    """An input table over [0, 0.011] s: loaded, lifted (N = 0, N < 0) and reloaded rows."""
+    t = np.arange(n) * 1e-3
+    cols = {"xi": 1e-3 * np.cos(40 * t), "eta": -4e-4 + 1e-2 * t, "phi": 0.3 * np.sin(60 * t),
+            "N": 1e5 * (1.0 + 5 * t), "mu": 0.3 - 2 * t}
+    cols["N"][4], cols["N"][5] = 0.0, -2e3
+    sig = np.zeros(n, dtype=[("time", float)] + [(k, float) for k in names])
+    sig["time"] = t
+    for k in names:
+        sig[k] = cols[k]
+    return sig
+
+
+# ---------------------------------------------------------------------------------------------
+# Simulation equals the core
+# ---------------------------------------------------------------------------------------------
+
+def _check_simulation(path, method, scene):
+    md = read_model_description(str(path))
+    names = [v.name for v in md.modelVariables if v.causality == "input"]
+    outs = [v.name for v in md.modelVariables if v.name in ("Fx", "Fy", "Mz")]
+    res = simulate_fmu(str(path), start_time=0.0, stop_time=0.011, output_interval=1e-3,
+                       input=signal(names), start_values={"method": method, **options_for(method)},
+                       output=list(names) + outs + ["a", "b", "p0", "slip_fraction", "method_used"])
+    assert len(res) == 12
+    warm = None
+    for row in res:  # each row holds the inputs its outputs were computed from
+        ins = {k: float(row[k]) for k in names}
+        warm, ref = reference(method, warm=warm, effects=cc.load_scene(scene).effects, **ins)
+        ref = dict(zip(OUTPUTS, ref))
+        keys = outs + ["a", "b", "p0", "slip_fraction"]
+        assert_rel([row[k] for k in keys], [ref[k] for k in keys])
+        assert row["method_used"] == cc.METHODS[method].code
+    assert np.isfinite(np.array(res.tolist())).all()
+    return res
+
+
+@pytest.mark.parametrize("method", cc.methods())
+def test_input_table_simulation_equals_core(fmus, method):
+    res = _check_simulation(fmus["full"], method, "full")
+    lifted = res[res["N"] <= 0]
+    assert len(lifted) == 2 and not lifted["Fx"].any() and not lifted["a"].any()
+
+
+@pytest.mark.parametrize("scene", ["traction", "tangent_track", "curving"])
+def test_scene_simulation_equals_core(fmus, scene):
+    _check_simulation(fmus[scene], cc.load_scene(scene).default_method, scene)
+
+
+def test_two_instances_are_independent(fmus):
+    m2 = cc.methods()[-1]
+    with FmuInstance(fmus["full"], "a", {"method": "linear", "E": 200e9}) as a, \
+            FmuInstance(fmus["full"], "b", {"method": m2, **options_for(m2)}) as b:
+        warm_b = None
+        for k, u in enumerate(INPUTS):
+            ua, ub = u, INPUTS[-1 - k]
+            a.step(**ua)
+            b.step(**ub)
+            _, ref_a = reference("linear", E=200e9, **ua)
+            assert_rel(outputs(a)[:3], ref_a[:3])
+            warm_b, ref_b = reference(m2, warm=warm_b, **ub)
+            assert_rel(outputs(b), ref_b)
+        assert a.get("method_used") == [1] and b.get("method_used") == [cc.METHODS[m2].code]
+
+
+def test_reset_restores_a_fresh_instance(fmus):
+    with FmuInstance(fmus["full"], start={"method": "linear", "E": 150e9}) as inst:
+        inst.step(**INPUTS[0])
+        inst.fmu.reset()
+        assert inst.get("Fx", "E") == [0.0, 210e9]  # start values again
+        inst.init({"method": "johnson_vermeulen"})
+        inst.step(**INPUTS[1])
+        assert_rel(outputs(inst), reference("johnson_vermeulen", **INPUTS[1])[1])
+        assert inst.get("method_used") == [2]
+
+
+# ---------------------------------------------------------------------------------------------
+# Statuses: bad input is Discard, bad parameters and misuse are Error, nothing is Fatal
+# ---------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("var", ["xi", "eta", "phi", "N", "mu"])
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_non_finite_input_refuses_the_step(fmus, var, bad):
+    with FmuInstance(fmus["full"], start={"method": "johnson_vermeulen"}) as inst:
+        inst.step(**INPUTS[0])
+        good = outputs(inst)
+        assert status_of(inst.step, **{**INPUTS[1], var: bad}) == DISCARD
+        assert inst.messages[-1][0] == DISCARD and f"{var}=" in inst.messages[-1][1]
+        assert outputs(inst) == good  # last finite outputs kept, never NaN
+        inst.step(**INPUTS[2])        # the instance is still usable
+        assert_rel(outputs(inst), reference("johnson_vermeulen", **INPUTS[2])[1])
+
+
+def test_invalid_input_error_option(fmus):
+    """For hosts that go on after fmi2Discard (OMSimulator): invalid_input="error"."""
+    with FmuInstance(fmus["full"], start={"invalid_input": "error"}) as inst:
+        assert status_of(inst.step, **{**INPUTS[0], "xi": math.nan}) == ERROR
+        assert "xi=nan" in inst.errors()[-1]
+
+
+@pytest.mark.parametrize("scene", ["traction", "full"])
+@pytest.mark.parametrize("N", [0.0, -1.0, -5e4])
+def test_lifted_wheel_gives_zero_forces(fmus, scene, N):
+    with FmuInstance(fmus[scene]) as inst:
+        inputs = {k: v for k, v in INPUTS[0].items() if inst.vars.get(k) and
+                  inst.vars[k].causality == "input"}
+        inst.step(**inputs)
+        assert any(outputs(inst))
+        inst.step(**{**inputs, "N": N})
+        assert outputs(inst) == [0.0] * len(outputs(inst))
+        assert not inst.errors(WARNING)
+
+
+INVALID = [("traction", "mu", -0.1, "mu=-0.1 is out of range: allowed 0 <= mu"),
+           ("full", "E", -1.0, "E=-1.0 is out of range: allowed 0 < E"),
+           ("full", "nu", 0.5, "nu=0.5 is out of range: allowed 0 <= nu < 0.5"),
+           ("full", "R_wheel", 0.0, "R_wheel=0.0 is out of range"),
+           ("full", "R_wheel_profile", -0.1, "allowed 0 < B"),
+           ("full", "R_rail_profile", math.nan, "R_rail_profile=nan is out of range"),
+           ("full", "method", "jv", "method='jv' is unknown: allowed ['linear'"),
+           ("full", "variant", "nope", "variant='nope' is invalid: allowed"),
+           ("full", "invalid_input", "ignore", "invalid_input='ignore' is out of range")]
+#: A valid value of each parameter above.
+VALID = {"mu": 0.3, "E": 2e11, "nu": 0.3, "R_wheel": 0.5, "R_wheel_profile": 0.0,
+         "R_rail_profile": 0.3, "method": "linear", "variant": "kalker", "invalid_input": "error"}
+
+
+@pytest.mark.parametrize("scene, name, value, message", INVALID)
+def test_invalid_parameter_is_an_error_not_fatal(fmus, scene, name, value, message):
+    for k in range(3):  # repeatedly, in one process: failing and freeing must not crash the host
+        inst = FmuInstance(fmus[scene], f"bad{k}", initialize=False, logging_on=False)
+        assert status_of(inst.init, {name: value}) == ERROR
+        # logged (even with logging off) before the status was returned
+        assert any(message in m for m in inst.errors()), list(inst.messages)
+        if k == 2:  # corrected, the same instance initialises
+            inst.set(**{name: VALID[name]})
+            assert status_of(inst.fmu.exitInitializationMode) == OK
+            inst.step(**{k: v for k, v in INPUTS[0].items() if inst.vars.get(k) and
+                         inst.vars[k].causality == "input"})
+        inst.free()
+
+
+def test_non_finite_input_at_initialisation(fmus):
+    with FmuInstance(fmus["full"], initialize=False) as inst:
+        assert status_of(inst.init, {"N": math.nan}) == ERROR
+        assert any("N=nan" in m for m in inst.errors())
+
+
+@pytest.mark.parametrize("name, value", [("E", 1.0), ("R_rail_profile", 0.5),
+                                         ("method", "linear"), ("nx", 30), ("tol", 1e-3)])
+def test_fixed_parameter_after_initialisation_is_an_error(fmus, name, value):
+    with FmuInstance(fmus["full"], start={"method": "johnson_vermeulen"}) as inst:
+        inst.step(**INPUTS[0])
+        before = inst.get(name)
+        forces = outputs(inst)
+        assert status_of(inst.set, **{name: value}) == ERROR
+        assert inst.get(name) == before
+        assert f"{name} is a fixed parameter" in inst.errors()[-1]
+        inst.step(**INPUTS[0])
+        assert outputs(inst) == forces  # the old value is the one in use
+
+
+def test_misuse_is_an_error(fmus):
+    with FmuInstance(fmus["full"], initialize=False) as inst:
+        assert status_of(inst.fmu.doStep, 0.0, 1e-3) == ERROR     # not initialised
+        assert "fmi2DoStep at t=0.0 is not allowed in instantiated mode" in inst.errors()[-1]
+        inst.init()
+        assert status_of(inst.set, Fx=1.0) == ERROR                # an output
+        assert status_of(inst.fmu.setReal, [10_000], [1.0]) == ERROR  # no such variable
+        assert status_of(inst.fmu.getInteger, [inst.vars["Fx"].valueReference]) == ERROR
+        assert status_of(inst.fmu.enterInitializationMode) == ERROR
+        assert inst.counts[FATAL] == 0
+        inst.step(**INPUTS[0])  # none of it harmed the instance
+        assert_rel(outputs(inst), reference("johnson_vermeulen", **INPUTS[0])[1])
+
+
+# ---------------------------------------------------------------------------------------------
+# Isolation: each FMU runs the code it bundles
+# ---------------------------------------------------------------------------------------------
+
+def test_two_versions_side_by_side_and_one_after_another(fmus, other_version, tmp_path):
+    v1 = build("traction", "linear", tmp_path, name="v1")
+    ref = reference("linear", xi=1e-3, N=1e5, effects=cc.load_scene("traction").effects)[1][0]
+    start = {"N": 1e5, "xi": 1e-3}
+    for path, factor in ((v1, 1.0), (other_version, 2.0), (v1, 1.0)):   # one after another
+        res = simulate_fmu(str(path), stop_time=2e-3, output_interval=1e-3, start_values=start)
+        assert res["Fx"][-1] == factor * ref
+    with FmuInstance(v1, "a") as a, FmuInstance(other_version, "b") as b:   # side by side
+        a.step(xi=1e-3, N=1e5)
+        b.step(xi=1e-3, N=1e5)
+        assert (a.get("Fx")[0], b.get("Fx")[0]) == (ref, 2.0 * ref)
+
+
+def test_scene_fmus_one_after_another_in_one_process(fmus):
+    """The first FMU's extraction folder is deleted by fmpy before the second runs."""
+    for scene, method in (("traction", "johnson_vermeulen"), ("curving", "fastsim"),
+                          ("full", "fastsim"), ("traction", "johnson_vermeulen")):
+        _check_simulation(fmus[scene], method, scene)
+
+
+def test_host_contact_core_is_not_used(fmus):
+    """This process imported contact_core; the FMU must not run it (a fresh process shows what
+    the FMU imports: its own digest-named package, run from the cache folder)."""
+    code = (
+        "import sys, fmpy, contact_core\n"
+        "contact_core.solve = None  # the host's copy, sabotaged\n"
+        f"r = fmpy.simulate_fmu({str(fmus['traction'])!r}, stop_time=1e-3, output_interval=1e-3,"
+        " start_values={'N': 1e5, 'xi': 1e-3})\n"
+        "mods = sorted(m for m in sys.modules if m.endswith('.contact_core'))\n"
+        "print(mods[0]); print(sys.modules[mods[0]].__file__); print(repr(float(r['Fx'][-1])))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         cwd="/").stdout.split()
+    assert out[0].startswith("_wheel_rail_contact_") and out[0].endswith(".contact_core")
+    assert out[1].startswith(str(cache_root()))
+    _, ref = reference("johnson_vermeulen", xi=1e-3, N=1e5,
+                       effects=cc.load_scene("traction").effects)
+    assert float(out[2]) == ref[0]

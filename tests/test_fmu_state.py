@@ -1,0 +1,160 @@
+"""FMU states: get/set/serialize round-trip bit for bit (exact solver's warm start included); a
+serialized state is data only and checked before use: crafted, foreign, truncated or corrupted
+states are an fmi2Error that leaves the instance as it was, and never run code."""
+from __future__ import annotations
+
+import hashlib
+import json
+import pickle
+import struct
+
+import pytest
+from fmpy.fmi1 import FMICallException
+
+import contact_core as cc
+from conftest import options_for
+from wheel_rail_fmu.host import FmuInstance
+from wheel_rail_fmu.state import FORMAT_VERSION, MAGIC
+
+INPUTS = [dict(xi=1e-3, eta=-5e-4, phi=0.2, N=1e5, mu=0.3),
+          dict(xi=2e-3, eta=1e-4, phi=-0.1, N=8e4, mu=0.25),
+          dict(xi=-5e-4, eta=3e-4, phi=0.4, N=1.2e5, mu=0.35),
+          dict(xi=3e-3, eta=-2e-3, phi=0.0, N=9e4, mu=0.3)]
+OUT = ("Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction")
+ERROR = 3
+
+
+def run(inst, inputs):
+    out = []
+    for u in inputs:
+        inst.step(**u)
+        out.append(inst.get(*OUT))
+    return out
+
+
+@pytest.mark.parametrize("method", cc.methods())
+def test_state_round_trip_is_exact(fmus, method):
+    start = {"method": method, **options_for(method)}
+    with FmuInstance(fmus["full"], "a", start) as a, FmuInstance(fmus["full"], "b", start) as b:
+        run(a, INPUTS[:2])
+        state = a.fmu.getFMUstate()
+        blob = a.fmu.serializeFMUstate(state)
+        first = run(a, INPUTS[2:])
+        a.fmu.setFMUstate(state)  # back in time, same instance
+        assert run(a, INPUTS[2:]) == first  # bit for bit, warm start included
+        # into another instance that has seen other inputs (a different warm start)
+        run(b, [INPUTS[3], {**INPUTS[0], "N": 0.0}])
+        b_state = b.fmu.deSerializeFMUstate(blob)
+        b.fmu.setFMUstate(b_state)
+        assert run(b, INPUTS[2:]) == first
+        b.fmu.freeFMUstate(b_state)
+        a.fmu.freeFMUstate(state)
+
+
+def test_state_restores_parameters_and_mode(fmus):
+    with FmuInstance(fmus["full"], "a", {"method": "johnson_vermeulen", "E": 180e9}) as a, \
+            FmuInstance(fmus["full"], "b", initialize=False) as b:
+        run(a, INPUTS[:1])
+        state = b.fmu.deSerializeFMUstate(a.fmu.serializeFMUstate(a.fmu.getFMUstate()))
+        b.fmu.setFMUstate(state)  # b was never initialised: the state brings step mode
+        assert run(b, INPUTS[1:2]) == run(a, INPUTS[1:2])
+        assert b.get("method_used", "E") == [2, 180e9]
+
+
+def test_exact_warm_start_survives_serialization(fmus):
+    """The state holds the exact solver's warm start: the solution and, after a warm-started
+    step at the same a/b, the one before it (the secant predictor's)."""
+    start = {"method": "exact", "mx": 12, "my": 12}
+    with FmuInstance(fmus["full"], "a", start) as a:
+        run(a, [INPUTS[0], {**INPUTS[1], "N": INPUTS[0]["N"]}])
+        blob = a.fmu.serializeFMUstate(a.fmu.getFMUstate())
+    n = struct.unpack_from("<8sII", blob)[2]
+    header = json.loads(blob[16:16 + n])
+    assert header["result"]["method"] == "exact"
+    assert [s[1] for s in header["arrays"]] == [[12, 12], [12, 12], [3], [12, 12], [12, 12], [3]]
+
+
+# ---------------------------------------------------------------------------------------------
+# Untrusted states
+# ---------------------------------------------------------------------------------------------
+
+def _envelope(header: dict, data: bytes = b"") -> bytes:
+    """A well-formed state around ``header`` (the layout of wheel_rail_fmu.state)."""
+    h = json.dumps(header).encode()
+    body = struct.pack("<8sII", MAGIC, FORMAT_VERSION, len(h)) + h + data
+    return body + hashlib.sha256(body).digest()
+
+
+class Payload:
+    """Runs a shell command if unpickled."""
+
+    def __reduce__(self):
+        import os
+        return os.system, ("touch PWNED",)
+
+
+def _crafted(blob: bytes, tmp_path) -> dict[str, bytes]:
+    n = struct.unpack_from("<8sII", blob)[2]
+    header = json.loads(blob[16:16 + n])
+    data = blob[16 + n:-32]
+    flipped = bytearray(blob)
+    flipped[len(blob) // 2] ^= 0x40
+
+    def edit(**changes):
+        return _envelope({**header, **changes}, data)
+
+    values = dict(header["values"])
+    return {
+        "empty": b"",
+        "pickle": pickle.dumps({"state": Payload()}),
+        "pickle with our magic": MAGIC + pickle.dumps(Payload()),
+        "truncated": blob[:-40],
+        "bit flip": bytes(flipped),
+        "future version": _envelope(header, data).replace(
+            struct.pack("<I", FORMAT_VERSION), struct.pack("<I", FORMAT_VERSION + 1), 1),
+        "foreign GUID": edit(guid="{00000000-0000-0000-0000-000000000000}"),
+        "unknown mode": edit(mode="running"),
+        "missing variable": edit(values={k: v for k, v in values.items() if k != "E"}),
+        "wrong type": edit(values={**values, "method_used": "four"}),
+        "non-finite parameter": edit(values={**values, "E": float("inf")}),
+        "invalid parameter": edit(values={**values, "E": -1.0}),
+        "unknown method": edit(values={**values, "method": "jv"}),
+        "oversized array": edit(arrays=[["<f8", [1 << 20, 1 << 20]]] + header["arrays"][1:]),
+        "bad dtype": edit(arrays=[["|O", [12, 12]]] + header["arrays"][1:]),
+        "wrong array shape": edit(arrays=[["<f8", [144]]] + header["arrays"][1:]),
+        "extra data": _envelope(header, data + b"\0" * 8),
+        "header not JSON": _envelope_raw(b"{not json", data),
+    }
+
+
+def _envelope_raw(h: bytes, data: bytes) -> bytes:
+    body = struct.pack("<8sII", MAGIC, FORMAT_VERSION, len(h)) + h + data
+    return body + hashlib.sha256(body).digest()
+
+
+def test_crafted_and_corrupted_states_are_errors(fmus, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    start = {"method": "exact", "mx": 12, "my": 12}
+    with FmuInstance(fmus["full"], "a", start) as a:
+        run(a, INPUTS[:2])
+        good = a.fmu.serializeFMUstate(a.fmu.getFMUstate())
+        reference = run(a, INPUTS[2:3])
+        for what, blob in _crafted(good, tmp_path).items():
+            with pytest.raises(FMICallException) as e:
+                a.fmu.deSerializeFMUstate(blob)
+            assert e.value.status == ERROR, what
+            assert "the instance keeps its state" in a.errors()[-1], (what, a.errors()[-1])
+        assert not (tmp_path / "PWNED").exists()
+        # nothing of it reached the instance: restoring the good state reproduces the run
+        a.fmu.setFMUstate(a.fmu.deSerializeFMUstate(good))
+        assert run(a, INPUTS[2:3]) == reference
+        assert a.counts[4] == 0  # never fatal
+
+
+def test_state_of_another_fmu_is_refused(fmus):
+    with FmuInstance(fmus["curving"], "a") as a, FmuInstance(fmus["full"], "b") as b:
+        run(a, INPUTS[:1])
+        blob = a.fmu.serializeFMUstate(a.fmu.getFMUstate())
+        with pytest.raises(FMICallException):
+            b.fmu.deSerializeFMUstate(blob)
+        assert "belongs to the FMU with GUID" in b.errors()[-1]
