@@ -97,7 +97,8 @@ def _libcosim_run(paths: list[Path], inputs: dict[str, float], steps: int = 5,
 def test_libcosim_runs_different_contact_fmus(fmus, other_version, tmp_path):
     """A third-party FMI host with a thread pool: a traction FMU (Johnson–Vermeulen), a curving
     FMU (FASTSIM) and a traction FMU built from another version of contact_core (linear theory
-    with Fx doubled, see conftest) in one execution, each equal to its own law."""
+    with Fx doubled, see conftest) in one execution, each equal to its own law; then two of them
+    again in a second execution."""
     inputs = {"xi": 1e-3, "eta": -4e-4, "phi": 0.2, "N": 1e5}
     traction, curving, v2 = _libcosim_run([fmus["traction"], fmus["curving"], other_version],
                                           inputs)
@@ -108,6 +109,9 @@ def test_libcosim_runs_different_contact_fmus(fmus, other_version, tmp_path):
     np.testing.assert_allclose([curving[k] for k in ("Fx", "Fy", "Mz")], [r2.Fx, r2.Fy, r2.Mz],
                                rtol=1e-9, atol=0)
     np.testing.assert_allclose([v2["Fx"]], [2.0 * r3.Fx], rtol=1e-9, atol=0)
+    # and one execution after another in the same process, in the other order
+    v2, traction = _libcosim_run([other_version, fmus["traction"]], inputs)
+    assert (v2["Fx"], traction["Fx"]) == pytest.approx((2.0 * r3.Fx, r1.Fx), rel=1e-9)
 
 
 def test_libcosim_gets_the_message_before_the_error(fmus):
