@@ -35,10 +35,12 @@ def make_solver(method: str, effects: Effects | Iterable[str] | None = None,
 
 
 def _cached_solver(method: str, effects: Any, options: dict[str, Any]) -> ContactMethod:
+    if not isinstance(effects, (Effects, tuple, frozenset, str, type(None))):
+        effects = as_effects(effects)  # a list, set or generator of names: not a cache key
     try:
         key = (method, effects, tuple(options.items()))
         solver = _solvers.get(key)
-    except TypeError:  # unhashable option or effects value: no caching
+    except TypeError:  # unhashable option value: no caching
         return make_solver(method, effects, **options)
     if solver is None:
         solver = make_solver(method, effects, **options)
@@ -58,7 +60,7 @@ def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float
     method : str
         One of :func:`methods`: ``"linear"``, ``"johnson_vermeulen"``, ...
     xi, eta : float
-        Longitudinal and lateral creepage (dimensionless; seed 002 eq 2: rigid slip / V).
+        Longitudinal and lateral creepage (dimensionless; Kalker 1979, eq 2: rigid slip / V).
     phi : float
         Spin creepage, 1/m.
     N : float
@@ -84,6 +86,10 @@ def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float
         ``Fx, Fy`` in N, ``Mz`` in N·m, forces of the rail on the wheel (Kalker's convention:
         ``Fx = -G c² C11 ξ`` for small ξ, c = √(ab)).
     """
-    solver = (_solvers.get((method, effects, ())) if not options else None) \
-        or _cached_solver(method, effects, options)
+    try:  # the common call: hashable effects, no options
+        solver = _solvers[method, effects, ()] if not options else None
+    except (KeyError, TypeError):
+        solver = None
+    if solver is None:
+        solver = _cached_solver(method, effects, options)
     return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)

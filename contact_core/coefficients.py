@@ -1,8 +1,8 @@
 """Kalker's creepage and spin coefficients C11, C22, C23, C33 of linear rolling-contact theory.
 
 Source: J. J. Kalker, *Three-Dimensional Elastic Bodies in Rolling Contact*, Kluwer 1990, Table E.3
-(also Kalker's 1967 thesis, pp. 91-93), shipped as ``data/kalker_coefficients.csv`` (copied from
-``shared/reference``; see the file's header). Definition (seed 002 eqs 17-18, with c = √(ab)):
+(also Kalker's 1967 thesis, pp. 91-93), shipped as ``data/kalker_coefficients.csv`` (see the
+file's header). Definition (Kalker 1979, eqs 17-18, with c = √(ab)):
 
     Fx = -G c² C11 ξ,   Fy = -G (c² C22 η + c³ C23 φ),   Mz = -G (-c³ C23 η + c⁴ C33 φ).
 

@@ -1,36 +1,36 @@
 """Kalker's FASTSIM: the simplified theory of rolling contact, solved strip by strip.
 
-Simplified theory (seed 002 sec. 5, eqs 34-36) replaces the elastic half-space by a bed of
+Simplified theory (Kalker 1979, sec. 5, eqs 34-36) replaces the elastic half-space by a bed of
 independent springs: the tangential displacement is u = L p (eq 34), with a flexibility L (m/Pa)
 and the traction p bounded by |p| <= g = μ p_n (Coulomb). In steady rolling the slip is
 ẇ = V[(ξ - φy, η + φx) - ∂u/∂x] (eq 35); in the stick zone ẇ = 0, in the slip zone p = -g ẇ/|ẇ|
 (eq 36). FASTSIM (Kalker 1979/80; J. J. Kalker, *A fast algorithm for the simplified theory of
 rolling contact*, Vehicle System Dynamics 11 (1982) 1-13) follows the particles from the leading
 edge x = +a(y) of each strip y = const. to its trailing edge x = -a(y), and per step τ > 0
-(seed 002 eq 38):
+(Kalker 1979, eq 38):
 
     p_H(x) = p(x + τ) - (1/L) ∫_x^{x+τ} (ξ - φy, η + φx') dx'
            = p(x + τ) - (τ/L) (ξ - φy, η + φ(x + τ/2)),
     p(x)   = p_H                if |p_H| <= g(x)   (stick)
            = g(x) p_H / |p_H|   otherwise          (slip: scaled back onto the traction bound).
 
-The rigid-slip integral is exact with the midpoint x + τ/2 (seed 002 eq 37, the stick-zone
+The rigid-slip integral is exact with the midpoint x + τ/2 (Kalker 1979, eq 37, the stick-zone
 solution ``L_y Y(x) = L_y Y(x0) + [η + φ(x + x0)/2](x - x0)``), so in full stick the marched
-tractions are exactly Kalker's linear simplified solution (seed 002 eq 16) at the grid points
+tractions are exactly Kalker's linear simplified solution (Kalker 1979, eq 16) at the grid points
 when the march starts at the leading edge itself (scheme "midpoint"; "kalker" starts half an
 element ahead of it, see below).
 Signs: with ξ > 0 the traction (rail on wheel) is negative, as in linear theory
-(``Fx = -G c² C11 ξ``, seed 002 eq 17).
+(``Fx = -G c² C11 ξ``, Kalker 1979, eq 17).
 
 Flexibilities (Kalker 1982; also Kalker 1990, *Three-Dimensional Elastic Bodies in Rolling
 Contact*, sec. 3.3): integrating the stick solution over the ellipse and equating the forces to
-linear theory (seed 002 eq 17) defines one flexibility per creepage,
+linear theory (Kalker 1979, eq 17) defines one flexibility per creepage,
 
     L1 = 8a / (3 G C11),   L2 = 8a / (3 G C22),   L3 = π a √(a/b) / (4 G C23),
 
 (check: p_x = -ξ (a(y) - x)/L1 gives Fx = -(8/3) a² b ξ / L1 = -G ab C11 ξ; p_y = -φ(a(y)² - x²)/(2 L3)
 gives Fy = -(π/4) a³ b φ / L3 = -G (ab)^{3/2} C23 φ.) FASTSIM assumes one flexibility for both
-directions, L_x = L_y = L (seed 002 sec. 5, "the fastest method"), and Kalker 1982 combines the
+directions, L_x = L_y = L (Kalker 1979, sec. 5, "the fastest method"), and Kalker 1982 combines the
 three into the single weighted flexibility
 
     L = (L1 |ξ| + L2 |η| + L3 c |φ|) / √(ξ² + η² + c² φ²),   c = √(ab),
@@ -43,7 +43,7 @@ in ``m_hertz.f90``, Vollebregt; not used here.)
 Traction bound g = μ p_n (option ``bound``):
 
 ``"parabolic"`` (default) — Kalker's original FASTSIM: p_n = (2N/(πab)) (1 - x²/a² - y²/b²), the
-    pressure of simplified theory itself (Winkler bed, seed 002 sec. 2, fig. 4). It is the default
+    pressure of simplified theory itself (Winkler bed, Kalker 1979 fig. 4). It is the default
     because it is Kalker's algorithm and the one the published references use: CONTACT's
     ``tractcurv`` FASTSIM rows (B=3) and the known agreement of simplified theory with the
     Kalker-normalised Johnson–Vermeulen curve are both for the parabolic bound.
@@ -132,7 +132,7 @@ _FX, _FY, _FPX, _FPY, _FG, _FSLIP, _FAREA = range(7)
 def _march(a: float, b: float, xi: float, eta: float, phi: float, inv_l: float, g0: float,
            elliptic: bool, nx: int, ny: int, first: float, do_x: bool, do_y: bool, do_mz: bool,
            saturate: bool, out: Any) -> tuple[float, float, float, float, float]:
-    """FASTSIM strip march (seed 002 eq 38) on the strip grid (module docstring).
+    """FASTSIM strip march (Kalker 1979, eq 38) on the strip grid (module docstring).
 
     Arguments in SI units: semi-axes ``a, b`` (m), creepages ``xi, eta`` (-), spin ``phi`` (1/m),
     ``inv_l`` = 1/L (Pa/m), ``g0`` = peak of the traction bound μ p_n (Pa, incl. the discrete load
@@ -164,7 +164,7 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, inv_l: float, 
         dx = 2.0 * hj
         hq = hj * hj * inv_a2
         da = dx * dy
-        wx = (xi - phi * y) * inv_l          # dp_x/dx in stick (seed 002 eq 37)
+        wx = (xi - phi * y) * inv_l          # dp_x/dx in stick (Kalker 1979, eq 37)
         px = 0.0
         py = 0.0
         spx = 0.0
@@ -276,7 +276,7 @@ class FastsimFields:
 
 
 class Fastsim(ContactMethod):
-    """Kalker's FASTSIM (simplified theory, strip march; seed 002 sec. 5, Kalker 1982).
+    """Kalker's FASTSIM (simplified theory, strip march; Kalker 1979, sec. 5, Kalker 1982).
 
     Options
     -------

@@ -19,7 +19,7 @@ K = R_F(0,g²,1), K - E = (m/3) R_D(0,g²,1)), which gives the curvature ratio a
     B'/A' = (3 R_F / R_D - 1) / g²,      α³ = N R_D / (2π E* A').
 
 The ratio equation is solved once per geometry for g with Brent's method (``scipy.optimize.brentq``)
-in ln g; then α, β ∝ N^{1/3}, δ ∝ N^{2/3} (seed 002 sec. 2: "a and b are proportional to N^{1/3}").
+in ln g; then α, β ∝ N^{1/3}, δ ∝ N^{2/3} (Kalker 1979 sec. 2).
 """
 from __future__ import annotations
 
@@ -36,7 +36,7 @@ CURVATURE_RATIO_RANGE: tuple[float, float] = (1e-3, 1e3)
 
 
 def max_pressure(N: float, a: float, b: float) -> float:
-    """Hertz's peak pressure p0 = 3N/(2πab), Pa (seed 002 eq 3 at the centre)."""
+    """Hertz's peak pressure p0 = 3N/(2πab), Pa (Kalker 1979, eq 3 at the centre)."""
     return 3.0 * N / (2.0 * math.pi * a * b)
 
 

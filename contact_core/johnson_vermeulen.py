@@ -1,4 +1,4 @@
-"""Johnson & Vermeulen's creep-force law (seed 002 sec. 3, eqs 10-13, 19-22).
+"""Johnson & Vermeulen's creep-force law (Kalker 1979, sec. 3, eqs 10-13, 19-22).
 
 Johnson & Vermeulen (1964) extended Carter's solution to an elliptic contact with an elliptic
 adhesion area touching the leading edge. With normalised creepages (ξ', η') and τ = |(ξ', η')|:
@@ -18,7 +18,7 @@ Two normalisations (option ``variant``):
 ``"original"``
     eq 12: ξ' = π ab G ξ/(μN Φ), η' = π ab G η/(μN ψ1), with Φ, ψ1 from the complete elliptic
     integrals B, C, D of eq 10 (eq 11a for a <= b, 11b for a >= b); i.e. C11^JV = π/Φ and
-    C22^JV = π/ψ1 (eq 19; seed 002 Table 1 lists them for ν = 1/4).
+    C22^JV = π/ψ1 (eq 19; Kalker 1979, Table 1 lists them for ν = 1/4).
 
 Johnson–Vermeulen has no spin. Option ``spin``:
 
@@ -32,8 +32,8 @@ Johnson–Vermeulen has no spin. Option ``spin``:
 ``"ignore"``
     the strict original: φ is ignored and Mz = 0 (the theory has no spin moment).
 
-``slip_fraction`` is that of the Johnson–Vermeulen picture (seed 002 fig. 6; Johnson 1958, seed
-001): the adhesion area is an ellipse similar to the contact ellipse, scaled by 1 - τ/3, so the
+``slip_fraction`` is that of the Johnson–Vermeulen picture (Kalker 1979, fig. 6; Johnson
+1958a): the adhesion area is an ellipse similar to the contact ellipse, scaled by 1 - τ/3, so the
 slip fraction is 1 - (1 - τ/3)² (1 for τ >= 3).
 
 The elliptic integrals of eq 10 (k² = m) are evaluated with Carlson's symmetric integrals
@@ -53,7 +53,7 @@ from .result import make_result
 
 
 def elliptic_bcd(m: float) -> tuple[float, float, float]:
-    """The complete elliptic integrals (B, C, D) of seed 002 eq 10 for parameter m = k² in [0, 1)."""
+    """Elliptic integrals (B, C, D) of Kalker 1979 eq 10 for the parameter m = k² in [0, 1)."""
     if m < 1e-9:  # C = (D - B)/m cancels; first-order series, error O(m²)
         return math.pi / 4 * (1 + m / 8), math.pi / 16 * (1 + 0.75 * m), math.pi / 4 * (1 + 3 * m / 8)
     rd = float(elliprd(0.0, 1.0 - m, 1.0))
@@ -64,7 +64,7 @@ def elliptic_bcd(m: float) -> tuple[float, float, float]:
 
 @lru_cache(maxsize=1024)
 def jv_creep_coefficients(a_over_b: float, nu: float) -> tuple[float, float]:
-    """Johnson–Vermeulen's creepage coefficients (C11^JV, C22^JV) = (π/Φ, π/ψ1), seed 002 eqs 11, 19."""
+    """Johnson–Vermeulen's coefficients (C11^JV, C22^JV) = (π/Φ, π/ψ1), Kalker 1979 eqs 11, 19."""
     r = a_over_b
     if r <= 1.0:  # eq 11a
         bb, cc, dd = elliptic_bcd(1.0 - r * r)

@@ -1,10 +1,10 @@
-"""Kalker's linear theory of rolling contact (seed 002 sec. 3, eqs 14-18).
+"""Kalker's linear theory of rolling contact (Kalker 1979, sec. 3, eqs 14-18).
 
 With c = √(ab) and Kalker's coefficients C_ij(a/b, ν) (:mod:`contact_core.coefficients`):
 
     Fx = -G c² C11 ξ,   Fy = -G (c² C22 η + c³ C23 φ),   Mz = -G (-c³ C23 η + c⁴ C33 φ)
 
-(seed 002 eq 17 for the forces; the spin moment with C32 = -C23, Kalker's thesis, seed 000 sec. 6.1).
+(Kalker 1979 eq 17 for the forces; the spin moment with C32 = -C23, Kalker 1967 sec. 6.1).
 The theory is the asymptote of the exact theory for vanishing creepage and spin: it assumes the
 whole contact sticks, so it is **unsaturated by definition** — the forces grow without bound and
 μ is not used. Use it only in the linear range (|F| well below μN), or as the slope at the origin.

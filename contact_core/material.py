@@ -3,7 +3,7 @@ from __future__ import annotations
 
 
 def shear_modulus(E: float, nu: float) -> float:
-    """G = E / (2(1+ν)), Pa (seed 002 eq 8)."""
+    """G = E / (2(1+ν)), Pa (Kalker 1979, eq 8)."""
     return E / (2.0 * (1.0 + nu))
 
 

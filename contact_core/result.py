@@ -9,7 +9,7 @@ from typing import Any
 class ContactResult:
     """Creep forces and spin moment of one contact, with diagnostics.
 
-    Sign convention (Kalker; seed 002 sec. 2 and eq 17): forces and moment are those exerted by the
+    Sign convention (Kalker 1979 sec. 2 and eq 17): forces and moment are those exerted by the
     rail on the wheel, in the contact frame (x rolling direction, y lateral, z into the rail). For
     small creepage ``Fx = -G c² C11 ξ``: the force opposes the creepage.
 

@@ -8,7 +8,7 @@ import pytest
 
 import contact_core as cc
 
-#: Copies of shared/reference (CONTACT tractcurv output; see README_reference.md there).
+#: Reference data: CONTACT's tractcurv example output (see README_reference.md there).
 REFERENCE_DIR = Path(__file__).parent / "data"
 
 #: Options keeping the discretised methods cheap in generic (all-method) tests.

@@ -1,6 +1,6 @@
 """The uniform interface: every registered method, same inputs, outputs, signs and errors.
 
-Symmetries of steady rolling (Kalker's thesis, seed 000 sec. 4.2; seed 002 sec. 2): Fx is odd in ξ,
+Symmetries of steady rolling (Kalker 1967 sec. 4.2; Kalker 1979 sec. 2): Fx is odd in ξ,
 Fy and Mz are even in ξ; (η, φ) -> (-η, -φ) flips Fy and Mz and keeps Fx.
 """
 from __future__ import annotations
@@ -63,7 +63,7 @@ def test_units_si_and_millimetres_give_the_same_forces(method, wheel_rail_case):
 
 @pytest.mark.parametrize("method", METHODS)
 def test_small_creepage_agrees_with_linear_theory(method, wheel_rail_case):
-    # All methods share linear theory as their small-creepage limit (seed 002 eq 18). The
+    # All methods share linear theory as their small-creepage limit (Kalker 1979, eq 18). The
     # discretised methods run here on coarse grids (16-20 elements per axis), within a few percent;
     # their own tests check the convergence to Kalker's coefficients.
     c = wheel_rail_case
@@ -116,6 +116,10 @@ def test_effect_subsets_compute_only_their_outputs(method, wheel_rail_case):
         _solve(method, c, xi=1e-3, eta=1e-4, phi=0.0, effects=("longitudinal",))
     with pytest.raises(ValueError, match="unknown effect"):
         _solve(method, c, xi=1e-3, eta=0.0, phi=0.0, effects=("traction",))
+    # any iterable of names, as the signature says: a list, a set, a generator
+    for spec in (["longitudinal", "saturation"], {"longitudinal", "saturation"},
+                 (e for e in ("longitudinal", "saturation"))):
+        assert _solve(method, c, xi=1e-3, eta=0.0, phi=0.0, effects=spec).Fx == lon.Fx
 
 
 @pytest.mark.parametrize("method", METHODS)

@@ -2,7 +2,7 @@
 
 References: Kalker's coefficient table (Kalker 1990, Table E.3, shipped CSV), CONTACT's public
 example ``tractcurv`` (tests/data), Hertz's pressure, full sliding (|F| = μN), the symmetries of
-the problem, and the behaviour on the hard cases of Kalker's thesis (seed 000: pure spin).
+the problem, and the behaviour on the hard cases of Kalker's thesis (Kalker 1967: pure spin).
 Grids are modest (16×16 to 40×40) except the 48×44 tractcurv comparison.
 """
 from __future__ import annotations
@@ -146,7 +146,7 @@ def test_spin_moment_coefficient_c33_trend(ab):
 
 
 def test_discrete_reciprocity_c23():
-    # Mz per η equals -Fy per φ·c (C32 = -C23, seed 000 sec. 6.1), also on the discrete grid
+    # Mz per η equals -Fy per φ·c (C32 = -C23, Kalker 1967, sec. 6.1), also on the discrete grid
     a, b = _patch(1.0)
     c = math.sqrt(a * b)
     kw = dict(N=1e5, mu=0.3, a=a, b=b, G=G, nu=NU, mx=16, my=16, tol=1e-10)
@@ -207,7 +207,7 @@ def test_full_sliding(xi, eta):
 
 @pytest.mark.parametrize("ab", [0.2, 1.0, 2.0, 5.0])
 def test_pure_spin_sweep_smooth(ab):
-    # Kalker's thesis program failed on pure spin near the peak for a/b = 5 and 2 (seed 000).
+    # Kalker's thesis program failed on pure spin near the peak for a/b = 5 and 2 (Kalker 1967).
     a, b = _patch(ab)
     c = math.sqrt(a * b)
     N, mu = 1e5, 0.3

@@ -81,7 +81,7 @@ def test_numpy_integer_grid_accepted():
 
 @pytest.mark.parametrize("ab", [0.5, 1.0, 3.0])
 def test_linear_limit_and_second_order_convergence(ab):
-    """Fx/ξ, Fy/η, Fy/φ -> -G c² C11, -G c² C22, -G c³ C23 (seed 002 eqs 17-18) as n grows.
+    """Fx/ξ, Fy/η, Fy/φ -> -G c² C11, -G c² C22, -G c³ C23 (Kalker 1979, eqs 17-18) as n grows.
 
     Without saturation (μ -> ∞) FASTSIM is the linear simplified theory; L1..L3 are defined by
     these limits, so the limit itself must be reached, and the midpoint sums converge as O(n⁻²).
@@ -153,8 +153,8 @@ def test_both_schemes_converge_to_the_same_solution():
 
 
 def test_linear_limit_with_saturation_at_vanishing_creepage():
-    # With Coulomb friction the slip zone vanishes as creepage -> 0 (seed 002 sec. 3), so the same
-    # limit holds with the bound applied.
+    # With Coulomb friction the slip zone vanishes as creepage -> 0 (Kalker 1979 sec. 3), so the
+    # same limit holds with the bound applied.
     for kw, comp in (({"xi": 1e-7}, "Fx"), ({"eta": 1e-7}, "Fy"), ({"phi": 1e-4}, "Fy")):
         r = fs(**kw, nx=80, ny=80)
         assert getattr(r, comp) == pytest.approx(getattr(lin(**kw), comp), rel=1e-3)
@@ -171,7 +171,7 @@ def test_small_creepage_signs_match_linear_theory_incl_mz():
 
 
 def test_pure_spin_moment_of_simplified_theory():
-    # Analytic simplified theory for pure spin (seed 002 eq 16 with L = L3, integrated over the
+    # Analytic simplified theory for pure spin (Kalker 1979, eq 16 with L = L3, integrated over the
     # ellipse): p_x = φ y (a(y) - x)/L3, so Mz = -∫ y p_x dA = -(8/15) a² b³ φ / L3, while linear
     # theory has Mz = -G c⁴ C33 φ. FASTSIM's spin moment is therefore not C33's: at a/b = 1,
     # ν = 0.28 it is 12 % lower. The fine-grid FASTSIM must reproduce the analytic value.

@@ -65,7 +65,7 @@ def test_orientation_swaps_with_curvatures():
 
 
 def test_semi_axes_scale_with_cube_root_of_load():
-    # seed 002 sec. 2: "a and b are proportional to N^(1/3)".
+    # Kalker 1979, sec. 2: "a and b are proportional to N^(1/3)".
     g = cc.hertz_geometry(1.087, 1.667, E, NU)
     p1, p8 = g.patch(10e3), g.patch(80e3)
     assert (p8.a / p1.a, p8.b / p1.b) == pytest.approx((2.0, 2.0), rel=1e-14)

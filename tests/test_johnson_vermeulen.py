@@ -1,4 +1,4 @@
-"""Johnson–Vermeulen against seed 002 (Table 1, eqs 10-13, 19-22) and linear theory."""
+"""Johnson–Vermeulen against Kalker 1979 (Table 1, eqs 10-13, 19-22) and linear theory."""
 from __future__ import annotations
 
 import math

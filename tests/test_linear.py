@@ -1,4 +1,4 @@
-"""Linear theory (seed 002 eq 17) with the coefficients printed in seed 002 Table 1 (column C^K)."""
+"""Linear theory (Kalker 1979 eq 17) with the coefficients printed in its Table 1 (column C^K)."""
 from __future__ import annotations
 
 import math
@@ -20,7 +20,8 @@ def test_creep_forces_use_kalker_coefficients_and_ab(ab, c11, c22):
 
 def test_spin_terms_and_their_signs():
     # Fy = -G c³ C23 φ and Mz = -G c⁴ C33 φ for pure spin; Mz = +G c³ C23 η for pure lateral
-    # creepage (C32 = -C23, seed 000 sec. 6.1). Table E.3, a/b = 1, ν = 1/4: C23 = 1.47, C33 = 1.16.
+    # creepage (C32 = -C23, Kalker 1967 sec. 6.1). Kalker 1990 Table E.3, a/b = 1, ν = 1/4:
+    # C23 = 1.47, C33 = 1.16.
     a = b = 5e-3
     G, c = 80e9, 5e-3
     spin = cc.solve("linear", xi=0.0, eta=0.0, phi=0.7, N=1e5, mu=0.3, a=a, b=b, G=G, nu=0.25)

@@ -6,7 +6,7 @@ A :class:`Case` is one wheel–rail contact state. Its ellipse comes from Hertz 
 (the FMU computes the patch from Hertz at each step's N).
 
 Levels are Kalker-normalised with the creep coefficients ``C11, C22, C23`` of the case's a/b and ν
-(seed 002 eqs 17 and 22; the Shen–Hedrick–Elkins form with spin)::
+(Kalker 1979, eqs 17 and 22; the Shen–Hedrick–Elkins form with spin)::
 
     tau_creep = G c² |(C11 ξ, C22 η)| / (μN)
     tau_spin  = G c³ C23 |φ| / (μN)

@@ -1,8 +1,8 @@
 """Influence coefficients of the elastic half-space for piecewise-constant tractions on a grid.
 
 Two quasi-identical half-spaces (same G, ν), tractions ``(X, Y, Z)`` on the wheel, displacement
-difference ``u = u_wheel - u_rail`` (seed 002 sec. 2). Boussinesq–Cerruti (seed 002 eq 8; Love,
-*A Treatise on the Mathematical Theory of Elasticity*, 4th ed. 1927, p. 243; Kalker 1990,
+difference ``u = u_wheel - u_rail`` (Kalker 1979 sec. 2). Boussinesq–Cerruti (Kalker 1979 eq 8;
+Love, *A Treatise on the Mathematical Theory of Elasticity*, 4th ed. 1927, p. 243; Kalker 1990,
 *Three-Dimensional Elastic Bodies in Rolling Contact*, sec. 1.5):
 
     u_x = 1/(πG) ∬ [((1-ν)/R + ν X²/R³) X + ν X Y/R³ · Y] dA',
@@ -85,7 +85,7 @@ def element_integrals(mx: int, my: int, ratio: float) -> tuple[np.ndarray, ...]:
 def tangential_tables(mx: int, my: int, ratio: float, nu: float) -> tuple[np.ndarray, ...]:
     """``(Kxx, Kxy, Kyy)``: πG/dx times the displacement per unit traction (flipped layout).
 
-    ``u_i = dx/(πG) Σ_j K(i - j) p_j`` (seed 002 eq 8 integrated over the element).
+    ``u_i = dx/(πG) Σ_j K(i - j) p_j`` (Kalker 1979, eq 8 integrated over the element).
     """
     ir, ixx, iyy, ixy = element_integrals(mx, my, ratio)
     kxx = np.ascontiguousarray((1.0 - nu) * ir + nu * ixx)

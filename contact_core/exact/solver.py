@@ -1,7 +1,7 @@
 """Kalker's exact theory of steady rolling: the method ``"exact"`` (boundary elements).
 
 Half-space, quasi-identical materials (normal and tangential problems uncoupled), steady rolling,
-Coulomb friction (seed 002 sec. 2, eqs 4-8, and sec. 4; Kalker 1990, *Three-Dimensional Elastic
+Coulomb friction (Kalker 1979, sec. 2, eqs 4-8, and sec. 4; Kalker 1990, *Three-Dimensional Elastic
 Bodies in Rolling Contact*, ch. 5). The potential contact area is the rectangle
 [-scale·a, scale·a] × [-scale·b, scale·b] divided into ``mx × my`` elements with constant
 tractions. Steps:

@@ -1,6 +1,6 @@
 """Steady-rolling tangential problem on the grid: a nonlinear block Gauss–Seidel solver.
 
-Discrete problem (seed 002 eqs 4-6 and 8; Kalker 1990, *Three-Dimensional Elastic Bodies in
+Discrete problem (Kalker 1979, eqs 4-6 and 8; Kalker 1990, *Three-Dimensional Elastic Bodies in
 Rolling Contact*, ch. 5). Element i = (ix, iy), material flowing in -x, so the upstream
 neighbour of i is i + (1, 0). With u = u_wheel - u_rail and p the traction on the wheel, the true
 slip per rolling speed V (the material derivative Du/Dt = -V ∂u/∂x of eq 4 discretised between
@@ -13,7 +13,7 @@ traction (the terms at the ends vanish since p = 0 outside the grid):
 
     w_i = s_i + 1/(πG) Σ_j K(i - j) q_j,      q_j = p_j - p_{j+(1,0)}   (j = -1 .. mx-1 per row).
 
-Coulomb (seed 002 eq 5): |p_i| <= μ p_n,i =: g_i; w_i = 0 (stick) or p_i = -g_i w_i/|w_i|
+Coulomb (Kalker 1979, eq 5): |p_i| <= μ p_n,i =: g_i; w_i = 0 (stick) or p_i = -g_i w_i/|w_i|
 (slip); p = 0 outside the contact (p_n = 0).
 
 Solver: the idea of Vollebregt's SteadyGS (E. A. H. Vollebregt, *A Gauss–Seidel type solver for

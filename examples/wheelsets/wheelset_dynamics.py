@@ -14,7 +14,7 @@ Track frame (and the contact frame of *both* contacts, as used by the contact FM
 along x, z downwards (into the rail). Yaw ψ and the spin are rotations about z (positive turns x
 towards y, i.e. the wheelset's nose to the right). The left wheel is at y = -b0, the right wheel at
 y = +b0. Forces ``Fx, Fy`` and the spin moment ``Mz`` are those of the rail on the wheel
-(Kalker's convention, seed 002 sec. 2); creepage = (velocity of the wheel particle relative to the
+(Kalker 1979 sec. 2); creepage = (velocity of the wheel particle relative to the
 rail at the contact) / V, so that linear theory reads ``Fx = -f11 ξ``, ``Fy = -f22 η - f23 φ``,
 ``Mz = f23 η - f33 φ``.
 
