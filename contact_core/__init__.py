@@ -9,6 +9,7 @@ Units are SI throughout; forces are those of the rail on the wheel in Kalker's c
 """
 from .api import METHODS, make_solver, methods, solve
 from .base import ContactMethod
+from .cache import clear_caches
 from .coefficients import creep_coefficients
 from .effects import ALL_EFFECTS, EFFECT_NAMES, Effects
 from .hertz import (HertzGeometry, HertzPatch, hertz, hertz_from_radii, hertz_geometry,
@@ -20,6 +21,7 @@ from .wheel_rail import WheelRailConfig, WheelRailEvaluator
 
 __all__ = [
     "ALL_EFFECTS", "EFFECT_NAMES", "METHODS", "ContactMethod", "ContactResult", "Effects",
+    "clear_caches",
     "HertzGeometry", "HertzPatch", "contact_modulus", "creep_coefficients", "hertz",
     "hertz_from_radii", "hertz_geometry", "make_solver", "methods", "shear_modulus", "solve",
     "wheel_rail_curvatures",

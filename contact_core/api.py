@@ -4,6 +4,7 @@ from __future__ import annotations
 from typing import Any, Iterable
 
 from .base import ContactMethod
+from .cache import register
 from .effects import Effects, as_effects
 from .exact import Exact
 from .fastsim import Fastsim
@@ -16,7 +17,8 @@ METHODS: dict[str, type[ContactMethod]] = {
     cls.name: cls for cls in (LinearTheory, JohnsonVermeulen, Fastsim, Exact)
 }
 
-_solvers: dict[tuple, ContactMethod] = {}
+_solvers: dict[tuple, ContactMethod] = {}  # see contact_core.cache: emptied when full
+register(_solvers.clear)
 
 
 def methods() -> tuple[str, ...]:

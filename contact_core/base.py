@@ -7,8 +7,11 @@ to the private :meth:`ContactMethod._step_impl`. ``contact_core.solve`` is the o
 from __future__ import annotations
 
 import math
+import operator
 from abc import ABC, abstractmethod
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Sequence
+
+import numpy as np
 
 from .effects import ALL_EFFECTS, Effects
 from .result import ContactResult, make_result
@@ -16,6 +19,60 @@ from .result import ContactResult, make_result
 
 def _bad(name: str, value: float, allowed: str) -> ValueError:
     return ValueError(f"{name}={value!r} is out of range: allowed {allowed}")
+
+
+# ----------------------------------------------------------------------------------------------
+# Method options: the validators every method uses in _check_options, with one wording
+# ("name=value is invalid: allowed ..."). Each stores the normalised value back in ``options``.
+# ----------------------------------------------------------------------------------------------
+
+def _invalid(name: str, value: Any, allowed: str) -> ValueError:
+    return ValueError(f"{name}={value!r} is invalid: allowed {allowed}")
+
+
+def int_option(options: dict[str, Any], name: str, lo: int, hi: int, what: str = "") -> int:
+    """An integer option ``lo <= value <= hi`` (bools refused; numpy integers accepted)."""
+    v = options[name]
+    try:
+        n = operator.index(v)
+    except TypeError:
+        n = None
+    if isinstance(v, bool) or n is None or not lo <= n <= hi:
+        raise _invalid(name, v, f"an integer {lo} <= {name} <= {hi}" + (f" ({what})" if what
+                                                                          else ""))
+    options[name] = int(n)
+    return int(n)
+
+
+def float_option(options: dict[str, Any], name: str, lo: float, hi: float,
+                 lo_open: bool = False, hi_open: bool = False) -> float:
+    """A real option in the interval from ``lo`` to ``hi`` (open ends as given)."""
+    v = options[name]
+    ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    if ok:
+        ok = (lo < v if lo_open else lo <= v) and (v < hi if hi_open else v <= hi)
+    if not ok:
+        raise _invalid(name, v, f"a number {lo:g} {'<' if lo_open else '<='} {name} "
+                                f"{'<' if hi_open else '<='} {hi:g}")
+    options[name] = float(v)
+    return float(v)
+
+
+def choice_option(options: dict[str, Any], name: str, choices: Sequence[str]) -> str:
+    """A string option, one of ``choices``."""
+    v = options[name]
+    if not isinstance(v, str) or v not in choices:
+        raise _invalid(name, v, " or ".join(repr(c) for c in choices))
+    return v
+
+
+def bool_option(options: dict[str, Any], name: str) -> bool:
+    """A boolean option (Python or numpy bool)."""
+    v = options[name]
+    if not isinstance(v, (bool, np.bool_)):
+        raise _invalid(name, v, "True or False")
+    options[name] = bool(v)
+    return bool(v)
 
 
 def check_inputs(xi: float, eta: float, phi: float, N: float, mu: float,
@@ -67,12 +124,13 @@ class ContactMethod(ABC):
         """Validate ``self.options``; raise ``ValueError`` naming the option and its range."""
 
     @classmethod
-    def check_warm_state(cls, warm_state: Any) -> None:
-        """Check a ``ContactResult.warm_state`` of this method read from outside (e.g. a saved
-        FMU state) before it is used; raise ``ValueError`` saying what is wrong. Methods without a
-        warm start accept only None."""
-        if warm_state is not None:
-            raise ValueError(f"method {cls.name!r} keeps no warm state (got {warm_state!r:.80})")
+    def warm_state_from_record(cls, record: dict[str, Any] | None) -> Any:
+        """The ``ContactResult.warm_state`` written as ``record`` (its ``to_record()``: a dict of
+        numbers, strings and float arrays), checked before use (e.g. from a saved FMU state);
+        ``ValueError`` says what is wrong. Methods without a warm start accept only None."""
+        if record is not None:
+            raise ValueError(f"method {cls.name!r} keeps no warm state")
+        return None
 
     def step(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
              G: float, nu: float, warm_start: ContactResult | None = None) -> ContactResult:

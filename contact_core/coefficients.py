@@ -33,11 +33,12 @@ from __future__ import annotations
 import csv
 import math
 import warnings
-from functools import lru_cache
 from importlib import resources
 
 import numpy as np
 from scipy.interpolate import RectBivariateSpline
+
+from .cache import cached
 
 #: Supported range of a/b (table 0.1..10 plus Kalker's asymptotes beyond it).
 A_OVER_B_RANGE: tuple[float, float] = (0.005, 200.0)
@@ -116,7 +117,7 @@ def _coefficients(a_over_b: float, nu: float) -> tuple[float, float, float, floa
     return (c[0], c[1], c[2], c[3])
 
 
-@lru_cache(maxsize=4096)  # errors are raised, not cached; hits cost ~0.1 µs
+@cached(4096)  # errors are raised, not cached; hits cost ~0.1 µs
 def creep_coefficients(a_over_b: float, nu: float) -> tuple[float, float, float, float]:
     """Kalker's coefficients ``(C11, C22, C23, C33)`` for semi-axis ratio a/b and Poisson's ratio ν.
 

@@ -23,8 +23,9 @@ silently dropped); outputs of an effect that is not selected are reported as 0.0
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from functools import lru_cache
 from typing import Iterable
+
+from .cache import cached
 
 EFFECT_NAMES: tuple[str, ...] = ("longitudinal", "lateral", "spin", "saturation", "variable_friction")
 
@@ -61,7 +62,7 @@ class Effects:
 ALL_EFFECTS = Effects()
 
 
-@lru_cache(maxsize=256)
+@cached(256)
 def _from_hashable(spec: tuple[str, ...] | frozenset | str) -> Effects:
     if isinstance(spec, str):
         spec = (spec,)

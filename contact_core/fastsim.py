@@ -106,14 +106,13 @@ it). The no-fields path allocates no arrays.
 from __future__ import annotations
 
 import math
-import operator
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any, Callable
 
 import numpy as np
 
-from .base import ContactMethod
+from .cache import cached
+from .base import ContactMethod, bool_option, choice_option, int_option
 from .coefficients import creep_coefficients
 from .result import ContactResult, make_result
 
@@ -228,7 +227,7 @@ def _kernel() -> Callable:
     return _KERNEL
 
 
-@lru_cache(maxsize=64)
+@cached(64)
 def _bound_normalisation(nx: int, ny: int, elliptic: bool) -> float:
     """Factor k making the discrete pressure carry the load: k Σ p̂ ΔA = ∫ p̂ dA.
 
@@ -308,28 +307,16 @@ class Fastsim(ContactMethod):
                        "fields": False}
 
     def _check_options(self) -> None:
-        lo, hi = GRID_RANGE
-        for key, what in (("nx", "elements per strip"), ("ny", "number of strips")):
-            v = self.options[key]
-            try:
-                n = operator.index(v)
-            except TypeError:
-                n = None
-            if isinstance(v, bool) or n is None or not (lo <= n <= hi):
-                raise ValueError(f"{key}={v!r} is out of range: allowed an integer "
-                                 f"{lo} <= {key} <= {hi} ({what})")
-            self.options[key] = int(n)
-        if self.options["bound"] not in BOUNDS:
-            raise ValueError(f"bound={self.options['bound']!r} is invalid: allowed {BOUNDS}")
-        scheme = self.options["scheme"]
-        if not isinstance(scheme, str) or scheme not in SCHEMES:
-            raise ValueError(f"scheme={scheme!r} is invalid: allowed {tuple(SCHEMES)}")
-        if not isinstance(self.options["fields"], (bool, np.bool_)):
-            raise ValueError(f"fields={self.options['fields']!r} is invalid: allowed True or False")
+        o = self.options
+        int_option(o, "nx", *GRID_RANGE, "elements per strip")
+        int_option(o, "ny", *GRID_RANGE, "number of strips")
+        choice_option(o, "bound", BOUNDS)
+        choice_option(o, "scheme", tuple(SCHEMES))
+        bool_option(o, "fields")
         self._nx = self.options["nx"]
         self._ny = self.options["ny"]
         self._elliptic = self.options["bound"] == "elliptic"
-        self._first = SCHEMES[scheme]
+        self._first = SCHEMES[o["scheme"]]
         self._fields = bool(self.options["fields"])
         # Peak of p_n per unit N/(ab): 2/π (parabolic) or 3/(2π) (Hertz), times the load
         # normalisation of the discrete grid.

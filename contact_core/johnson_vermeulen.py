@@ -43,11 +43,11 @@ C = (D - B)/m (integrate d/dθ[sinθ cosθ/Δ] over [0, π/2]); C -> π/16 for m
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 
 from scipy.special import elliprd, elliprf
 
-from .base import ContactMethod
+from .cache import cached
+from .base import ContactMethod, choice_option
 from .coefficients import creep_coefficients
 from .result import make_result
 
@@ -62,7 +62,7 @@ def elliptic_bcd(m: float) -> tuple[float, float, float]:
     return bb, (d - bb) / m, d
 
 
-@lru_cache(maxsize=1024)
+@cached(1024)
 def jv_creep_coefficients(a_over_b: float, nu: float) -> tuple[float, float]:
     """Johnson–Vermeulen's coefficients (C11^JV, C22^JV) = (π/Φ, π/ψ1), Kalker 1979 eqs 11, 19."""
     r = a_over_b
@@ -89,10 +89,8 @@ class JohnsonVermeulen(ContactMethod):
     default_options = {"variant": "kalker", "spin": "she"}
 
     def _check_options(self) -> None:
-        if self.options["variant"] not in VARIANTS:
-            raise ValueError(f"variant={self.options['variant']!r} is invalid: allowed {VARIANTS}")
-        if self.options["spin"] not in SPIN_MODES:
-            raise ValueError(f"spin={self.options['spin']!r} is invalid: allowed {SPIN_MODES}")
+        choice_option(self.options, "variant", VARIANTS)
+        choice_option(self.options, "spin", SPIN_MODES)
         self._original = self.options["variant"] == "original"
         self._use_spin = self.options["spin"] == "she"
 

@@ -25,25 +25,23 @@ is shared). Numba compile/cache-load time reported separately.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 import time
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 
 import contact_core as cc
-from contact_core.exact import influence as exact_influence
-from contact_core.exact import normal as exact_normal
-from contact_core.exact import solver as exact_solver
-from contact_core.exact import tangential
+from contact_core.exact import (EXTERIOR, SLIP, STICK, contact_grid, kernel_tables, slip_field,
+                                traction_differences)
+from contact_core.exact.normal import normalised_pressure
 from contact_core.material import shear_modulus
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from wheelsets.linear_model import LinearWheelset  # noqa: E402
-from wheelsets.systems import lateral_time_constant, recommended_step  # noqa: E402
-from wheelsets.wheelset_dynamics import LateralParams, LateralState, LateralWheelset  # noqa: E402
+# the reference wheelset models, next to this script (its folder is on sys.path when it runs)
+from wheelsets.linear_model import LinearWheelset
+from wheelsets.systems import lateral_time_constant, recommended_step
+from wheelsets.wheelset_dynamics import LateralParams, LateralState, LateralWheelset
 
 A, B, N, G, NU, MU = 6.304e-3, 12.61e-3, 106.7e3, 82e9, 0.28, 0.33
 CASES = {"longitudinal": (1.2e-3, 0.0, 0.0), "lateral": (0.0, 1e-3, 0.0),
@@ -62,18 +60,20 @@ def _best(fn, repeat: int) -> tuple[float, object]:
 STEPS = (1e-4, 3e-4, 1e-3, 3e-3, 1e-2)
 
 
-def _warm_vs_step(solver, xi: float, eta: float, phi: float, repeat: int) -> dict:
+def _warm_vs_step(solvers: dict, xi: float, eta: float, phi: float, repeat: int) -> dict:
     """Per relative creepage change Δ: (ms, sweeps) of one warm start from the cold solution at
     creepages (1 - Δ), and mean (ms, sweeps) per step of ten warm-started steps of +Δ each
-    (secant predictor); at Δ = 0.1 % also the ten steps without the secant (scaling only)."""
+    (secant predictor); at Δ = 0.1 % also the ten steps without the secant (scaling only).
+    ``solvers``: the same grid with option ``predictor`` "secant" and "scale"."""
     args = (xi, eta, phi, N, MU, A, B, G, NU)
+    solver = solvers["secant"]
     out = {}
     for d in STEPS:
         prev = solver.step(xi * (1 - d), eta * (1 - d), phi * (1 - d), N, MU, A, B, G, NU)
         ms_iso, r = _best(lambda: solver.step(*args, warm_start=prev), repeat)
         seq = []
-        for secant in ((True, False) if d == 1e-3 else (True,)):
-            exact_solver._SECANT = secant
+        for predictor in (("secant", "scale") if d == 1e-3 else ("secant",)):
+            solver = solvers[predictor]
             best = math.inf
             for _ in range(3):
                 rk = solver.step(*args)
@@ -86,7 +86,7 @@ def _warm_vs_step(solver, xi: float, eta: float, phi: float, repeat: int) -> dic
                     its += rk.iterations
                 best = min(best, t)
             seq.append((best * 1e3 / 10, its / 10))
-        exact_solver._SECANT = True
+        solver = solvers["secant"]
         out[d] = ((ms_iso, r.iterations), seq)
     return out
 
@@ -130,8 +130,8 @@ class _FirstOrderStart:
 
     Not a usable predictor: it needs a dense solve with the 2n × 2n Jacobian (n contact
     elements; ~5 ms for n = 264 on 20×20, more than a cold solve). Discrete steady-rolling
-    equations (Kalker 1990, *Three-Dimensional Elastic Bodies in Rolling Contact*, ch. 5; seed
-    002 sec. 4) in the solver's normalised tractions v = p/(μ p0): true slip w = c(σ) + M v,
+    equations (Kalker 1990, *Three-Dimensional Elastic Bodies in Rolling Contact*, ch. 5; Kalker
+    1979 sec. 4) in the solver's normalised tractions v = p/(μ p0): true slip w = c(σ) + M v,
     with c the rigid slip (σ1 - σ3 y/√(ab), σ2 + σ3 x/√(ab)) and M the slip of unit tractions;
     stick elements w = 0, slipping ones v = -g w/|w| (g = p_n/p0). Holding the stick/slip
     partition of the previous solution v_k, a first-order expansion in δσ gives the linear
@@ -143,8 +143,8 @@ class _FirstOrderStart:
         """Operator of the grid of ``solution`` (any solution with fields at this a/b)."""
         o = solver.options
         mx, my = o["mx"], o["my"]
-        grid = exact_solver._grid(mx, my, o["scale"], a / b, o["normal"])
-        kxx, kxy, kyy = solver._kernels(mx / my * b / a, solution.warm_state["nu"])   # dy/dx
+        grid = contact_grid(mx, my, o["scale"], a / b, o["normal"])
+        kxx, kxy, kyy = kernel_tables(mx, my, mx / my * b / a, solution.warm_state.nu)  # dy/dx
         self.a_over_b = a / b
         self.shape = (my, mx)
         self.iy, self.ix = np.nonzero(grid.contact)
@@ -153,14 +153,14 @@ class _FirstOrderStart:
         self.yh = solution.fields.y[self.iy] / math.sqrt(a * b)
         self.g = grid.pn[self.iy, self.ix]
         zero = np.zeros(self.shape)
-        stick = np.where(grid.contact, tangential.STICK, tangential.EXTERIOR).astype(np.int8)
+        stick = np.where(grid.contact, STICK, EXTERIOR).astype(np.int8)
         self.M = np.empty((2 * n, 2 * n))
         for j in range(2 * n):
             t = np.zeros((2,) + self.shape)
             t[j // n][self.iy[j % n], self.ix[j % n]] = 1.0
-            qx, qy = exact_solver._differences(t[0], t[1])
-            wx, wy = tangential.slip_field(t[0], t[1], qx, qy, stick, zero, zero, kxx, kxy, kyy,
-                                           grid.c_lo, grid.c_hi, grid.e_lo, grid.e_hi)
+            qx, qy = traction_differences(t[0], t[1])
+            wx, wy = slip_field(t[0], t[1], qx, qy, stick, zero, zero, kxx, kxy, kyy,
+                                grid.c_lo, grid.c_hi, grid.e_lo, grid.e_hi)
             self.M[:, j] = np.concatenate([wx[self.iy, self.ix], wy[self.iy, self.ix]])
 
     def rigid(self, sigma: np.ndarray) -> np.ndarray:
@@ -170,12 +170,12 @@ class _FirstOrderStart:
         """Warm state holding the first-order start at σ from ``prev`` (solved with fields)."""
         n = len(self.iy)
         st = prev.warm_state
-        v = np.concatenate([st["px"][self.iy, self.ix], st["py"][self.iy, self.ix]])
-        c = self.rigid(st["sigma"])
+        v = np.concatenate([st.px[self.iy, self.ix], st.py[self.iy, self.ix]])
+        c = self.rigid(st.sigma)
         dc = self.rigid(sigma) - c
         w = self.M @ v + c
         J, rhs = self.M.copy(), -dc
-        i = np.flatnonzero(prev.fields.status[self.iy, self.ix] == tangential.SLIP)
+        i = np.flatnonzero(prev.fields.status[self.iy, self.ix] == SLIP)
         wx, wy = w[i], w[n + i]
         nw = np.hypot(wx, wy)
         f, ex, ey = self.g[i] / nw, wx / nw, wy / nw
@@ -190,7 +190,7 @@ class _FirstOrderStart:
         t[0][self.iy, self.ix] = v[:n]
         t[1][self.iy, self.ix] = v[n:]
         # σ equal to the stored one: the solver's scale predictor is then the identity
-        return SimpleNamespace(warm_state=dict(st, px=t[0], py=t[1], sigma=sigma))
+        return SimpleNamespace(warm_state=dataclasses.replace(st, px=t[0], py=t[1], sigma=sigma))
 
 
 def _first_order_sweeps(rows: np.ndarray, mx: int, my: int) -> float:
@@ -206,10 +206,10 @@ def _first_order_sweeps(rows: np.ndarray, mx: int, my: int) -> float:
         args = (xi, eta, phi, n, mu_, a, b, G_, nu_)
         r = tight.step(*args, warm_start=prev)
         # a new a/b is a new grid: no start from the previous step (as in the solver)
-        if prev is not None and prev.warm_state["a_over_b"] == a / b:
+        if prev is not None and prev.warm_state.a_over_b == a / b:
             if bound is None or bound.a_over_b != a / b:
                 bound = _FirstOrderStart(solver, r, a, b)
-            its.append(solver.step(*args, warm_start=bound.start(prev, r.warm_state["sigma"]))
+            its.append(solver.step(*args, warm_start=bound.start(prev, r.warm_state.sigma))
                        .iterations)
         prev = r
     return float(np.mean(its))
@@ -260,6 +260,8 @@ def main() -> int:
     rows, warm = [], []
     for mx, my in ((20, 20), (32, 32), (48, 44)):
         solver = cc.make_solver("exact", mx=mx, my=my)
+        solvers = {"secant": solver, "scale": cc.make_solver("exact", mx=mx, my=my,
+                                                            predictor="scale")}
         repeat = 15 if mx <= 32 else 7
         for name, (xi, eta, phi) in CASES.items():
             args = (xi, eta, phi, N, MU, A, B, G, NU)
@@ -267,23 +269,20 @@ def main() -> int:
             ms_cold, r = _best(lambda: solver.step(*args), repeat)
 
             def cold_normal():
-                exact_normal.clear_cache()
-                exact_solver._GRIDS.clear()
+                normalised_pressure.cache_clear()
+                contact_grid.cache_clear()
                 return solver.step(*args)
             ms_cn, _ = _best(cold_normal, max(3, repeat // 3))
 
             def cold_all():
-                # a new a/b: also the influence tables and the folded normal operator
-                exact_influence.element_integrals.cache_clear()
-                exact_influence.tangential_tables.cache_clear()
-                exact_normal.folded_operator.cache_clear()
-                solver._tables.clear()
-                return cold_normal()
+                # a new a/b: also the influence and kernel tables, the folded normal operator
+                cc.clear_caches()
+                return solver.step(*args)
             ms_all, _ = _best(cold_all, max(3, repeat // 3))
             rows.append((f"{mx}x{my}", name, ms_cold, ms_cn, ms_all, r.iterations,
                          r.Fx / (MU * N), r.Fy / (MU * N)))
             warm.append((f"{mx}x{my}", name, ms_cold, r.iterations,
-                         _warm_vs_step(solver, xi, eta, phi, repeat)))
+                         _warm_vs_step(solvers, xi, eta, phi, repeat)))
     print(f"{'grid':7s} {'case':13s} {'cold ms':>8s} {'+normal':>8s} {'new a/b':>8s} "
           f"{'sweeps':>6s} |  Fx/μN    Fy/μN")
     for g, name, c, cn, ca, it, fx, fy in rows:
@@ -314,15 +313,14 @@ def main() -> int:
           "(cached normal)")
     print(f"{'grid':7s} {'full grid':>10s} {'half grid':>10s} {'speed-up':>9s} {'rel. dFx':>9s}")
     for mx, my in ((20, 20), (32, 32), (48, 44), (41, 39)):
-        solver = cc.make_solver("exact", mx=mx, my=my, effects=("longitudinal", "saturation"))
         args = (1.2e-3, 0.0, 0.0, N, MU, A, B, G, NU)
         repeat = 15 if mx <= 32 else 7
         out = []
         for half in (False, True):
-            exact_solver._HALF = half
+            solver = cc.make_solver("exact", mx=mx, my=my, half=half,
+                                    effects=("longitudinal", "saturation"))
             solver.step(*args)
             out.append(_best(lambda: solver.step(*args), repeat))
-        exact_solver._HALF = True
         (mf, rf), (mh, rh) = out
         print(f"{mx}x{my:<4d} {mf:10.2f} {mh:10.2f} {mf / mh:9.2f} {abs(rh.Fx / rf.Fx - 1):9.1e}")
     return 0

@@ -79,18 +79,15 @@ def test_normal_pressure_matches_hertz(ab):
 
 
 @pytest.mark.parametrize("mx, my, ab", [(20, 20, 0.5), (21, 19, 0.7), (16, 23, 3.0)])
-def test_folded_normal_solver_equals_fft_solver(mx, my, ab, monkeypatch):
+def test_folded_normal_solver_equals_fft_solver(mx, my, ab):
     # the quarter-folded dense Polonsky-Keer iteration (small grids) and the full-grid FFT one
     # solve the same discrete problem (even and odd grids)
     from contact_core.exact import normal
     out = []
     for dense_max in (10 ** 9, 0):
-        monkeypatch.setattr(normal, "_DENSE_MAX", dense_max)
-        normal.clear_cache()
-        p, it, err = normal.normalised_pressure(mx, my, 1.1, ab, "numerical")
+        p, it, err = normal.normalised_pressure(mx, my, 1.1, ab, "numerical", dense_max=dense_max)
         assert err < 1e-12 and it < 100
         out.append(p)
-    normal.clear_cache()
     assert ((out[0] > 0) == (out[1] > 0)).all()
     assert np.abs(out[0] - out[1]).max() < 1e-10 * out[1].max()
 
@@ -344,7 +341,7 @@ def test_warm_start_is_faster_and_same(wheel_rail_case):
     assert warm.Fx == pytest.approx(near.Fx, rel=1e-5)
     assert warm.Fy == pytest.approx(near.Fy, rel=1e-5)
     state = pickle.loads(pickle.dumps(cold.warm_state))
-    assert all(isinstance(v, (float, str, np.ndarray)) for v in state.values())
+    assert all(isinstance(v, (int, float, bool, np.ndarray)) for v in state.to_record().values())
     # an incompatible state (other grid) is ignored: cold start
     other = cc.make_solver("exact", mx=16, my=16).step(1.0e-3, 5e-4, 0.2, k["N"], k["mu"],
                                                         k["a"], k["b"], k["G"], k["nu"])
@@ -409,16 +406,14 @@ def test_registered_and_hertz_option(wheel_rail_case):
 # ------------------------------------------------- half grid (η = φ = 0), secant warm start
 
 @pytest.mark.parametrize("mx, my", [(20, 20), (21, 19), (16, 9)])
-def test_half_grid_equals_full_grid(mx, my, monkeypatch):
+def test_half_grid_equals_full_grid(mx, my):
     # η = φ = 0: solved on the rows y >= 0 with folded kernels; the iterates are the full
     # grid's (same sums, weighted), so the results agree to rounding, odd my included
-    from contact_core.exact import solver as exact_solver
     a, b = _patch(0.5)
     kw = dict(xi=1.2e-3, eta=0.0, phi=0.0, N=1e5, mu=0.3, a=a, b=b, G=G, nu=0.28, mx=mx, my=my,
               fields=True, effects=("longitudinal", "saturation"))
     half = cc.solve("exact", **kw)
-    monkeypatch.setattr(exact_solver, "_HALF", False)
-    full = cc.solve("exact", **kw)
+    full = cc.solve("exact", **kw, half=False)
     assert half.converged and full.converged and 0 < full.slip_fraction < 1
     assert half.iterations == full.iterations
     assert half.Fx == pytest.approx(full.Fx, rel=1e-9)
@@ -433,20 +428,18 @@ def test_half_grid_equals_full_grid(mx, my, monkeypatch):
     np.testing.assert_array_equal(hf.py, -hf.py[::-1])
     _check_fields(half, 0.3)
     # warm start from a non-symmetric solution (η != 0) still converges to the same
-    monkeypatch.setattr(exact_solver, "_HALF", True)
     s = cc.make_solver("exact", mx=mx, my=my)
     prev = s.step(1.2e-3, 3e-4, 0.0, 1e5, 0.3, a, b, G, 0.28)
     warm = s.step(1.2e-3, 0.0, 0.0, 1e5, 0.3, a, b, G, 0.28, warm_start=prev)
     assert warm.Fx == pytest.approx(full.Fx, rel=1e-5) and warm.Fy == 0.0
 
 
-def test_secant_warm_start_sequence(wheel_rail_case, monkeypatch):
+def test_secant_warm_start_sequence(wheel_rail_case):
     # a ramp of the creepages: the warm state holds the last two solutions and extrapolates
-    from contact_core.exact import solver as exact_solver
     k = wheel_rail_case
-    solver = cc.make_solver("exact", mx=24, my=24)
 
-    def ramp():
+    def ramp(predictor):
+        solver = cc.make_solver("exact", mx=24, my=24, predictor=predictor)
         r = solver.step(1.0e-3, 5e-4, 0.2, k["N"], k["mu"], k["a"], k["b"], k["G"], k["nu"])
         its = []
         for i in range(1, 6):
@@ -456,13 +449,16 @@ def test_secant_warm_start_sequence(wheel_rail_case, monkeypatch):
             its.append(r.iterations)
         return r, its
 
-    r_sec, its_sec = ramp()
-    monkeypatch.setattr(exact_solver, "_SECANT", False)
-    r_plain, its_plain = ramp()
+    r_sec, its_sec = ramp("secant")
+    r_plain, its_plain = ramp("scale")
     assert its_sec[0] == its_plain[0]              # first warm start: no secant yet
     assert sum(its_sec[1:]) * 1.5 <= sum(its_plain[1:])
     assert r_sec.converged and r_sec.Fx == pytest.approx(r_plain.Fx, rel=1e-5)
     assert r_sec.Fy == pytest.approx(r_plain.Fy, rel=1e-5)
     state = pickle.loads(pickle.dumps(r_sec.warm_state))
-    assert all(isinstance(v, (float, str, np.ndarray)) for v in state.values())
-    assert "prev_px" in state
+    assert state.previous is not None
+    record = state.to_record()  # data only: numbers and float arrays
+    assert all(isinstance(v, (int, float, bool, np.ndarray)) for v in record.values())
+    assert "prev_px" in record
+    again = cc.METHODS["exact"].warm_state_from_record(record)
+    np.testing.assert_array_equal(again.previous[0], state.previous[0])

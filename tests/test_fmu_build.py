@@ -139,10 +139,10 @@ BAD_CLI = [
     (["--set", "nu=0.5"], "nu=0.5 is out of range: allowed 0 <= nu < 0.5"),
     (["--set", "nx=abc"], "nx='abc' is invalid: allowed an integer"),
     (["--set", "nx=2.5"], "nx='2.5' is invalid: allowed an integer"),
-    (["--set", "mx=2"], "mx=2 is out of range"),           # exact's option, default method JV
+    (["--set", "mx=2"], "mx=2 is invalid: allowed an integer 4 <= mx <= 400"),  # exact's
     (["--set", "tol=abc"], "tol='abc' is invalid: allowed a finite number"),
     (["--set", "variant=nope"], "variant='nope' is invalid: allowed"),
-    (["--set", "invalid_input=ignore"], "invalid_input='ignore' is out of range"),
+    (["--set", "invalid_input=ignore"], "invalid_input='ignore' is invalid: allowed 'discard' or 'error'"),
     (["--set", "mu=0.25"], "mu is an input (effect 'variable_friction')"),
     (["--scene", "tangent_track", "--set", "mu=0.25"], "mu is not used"),
     (["--scene", "traction", "--set", "mu=-0.1"], "mu=-0.1 is out of range"),

@@ -180,7 +180,7 @@ INVALID = [("traction", "mu", -0.1, "mu=-0.1 is out of range: allowed 0 <= mu"),
            ("full", "R_rail_profile", math.nan, "R_rail_profile=nan is out of range"),
            ("full", "method", "jv", "method='jv' is unknown: allowed ['linear'"),
            ("full", "variant", "nope", "variant='nope' is invalid: allowed"),
-           ("full", "invalid_input", "ignore", "invalid_input='ignore' is out of range")]
+           ("full", "invalid_input", "ignore", "invalid_input='ignore' is invalid: allowed")]
 #: A valid value of each parameter above.
 VALID = {"mu": 0.3, "E": 2e11, "nu": 0.3, "R_wheel": 0.5, "R_wheel_profile": 0.0,
          "R_rail_profile": 0.3, "method": "linear", "variant": "kalker", "invalid_input": "error"}

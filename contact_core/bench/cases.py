@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -36,6 +35,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
+from ..cache import cached
 from ..coefficients import creep_coefficients
 from ..hertz import hertz_geometry, wheel_rail_curvatures
 from ..material import shear_modulus
@@ -106,7 +106,7 @@ def load_spec(path: str | Path | None = None) -> dict[str, Any]:
     return tomllib.loads(text)
 
 
-@lru_cache(maxsize=64)
+@cached(64)
 def rail_radius_for(a_over_b: float, R_wheel: float, R_wheel_profile: float, E: float,
                     nu: float) -> float:
     """Rail crown radius (m) that gives the Hertz patch the semi-axis ratio ``a_over_b``."""

@@ -35,10 +35,10 @@ Stored as *flipped tables* for the row-wise dot products of :mod:`.tangential`: 
 """
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 import scipy.fft as sfft
+
+from ..cache import cached
 
 
 def _p_r(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
@@ -64,7 +64,7 @@ def _rect(prim, X: np.ndarray, Y: np.ndarray, hx: float, hy: float) -> np.ndarra
             - prim(X - hx, Y + hy) + prim(X - hx, Y - hy))
 
 
-@lru_cache(maxsize=32)
+@cached(32)
 def element_integrals(mx: int, my: int, ratio: float) -> tuple[np.ndarray, ...]:
     """Dimensionless rectangle integrals ``(I_R, I_xx, I_yy, I_xy)`` in units of ``dx``.
 
@@ -81,7 +81,7 @@ def element_integrals(mx: int, my: int, ratio: float) -> tuple[np.ndarray, ...]:
     return out
 
 
-@lru_cache(maxsize=32)
+@cached(32)
 def tangential_tables(mx: int, my: int, ratio: float, nu: float) -> tuple[np.ndarray, ...]:
     """``(Kxx, Kxy, Kyy)``: πG/dx times the displacement per unit traction (flipped layout).
 
@@ -96,7 +96,7 @@ def tangential_tables(mx: int, my: int, ratio: float, nu: float) -> tuple[np.nda
     return kxx, kxy, kyy
 
 
-@lru_cache(maxsize=32)
+@cached(32)
 def normal_kernel_fft(mx: int, my: int, ratio: float) -> np.ndarray:
     """rfft2 of the normal kernel I_R, wrapped on the zero-padded (2 my, 2 mx) grid.
 

@@ -11,7 +11,7 @@ Solved with the constrained conjugate-gradient method of Polonsky & Keer (1999),
 method for solving rough contact problems based on the multi-level multi-summation and conjugate
 gradient techniques*, Wear 231, 206-219 (the method CONTACT's NormCG builds on; Vollebregt 2014,
 J. Comput. Phys. 257, 333-351). Matrix-vector products: for grids whose quarter has at most
-``_DENSE_MAX`` elements, a dense product with the operator folded onto the quarter grid (the
+``DENSE_MAX`` elements, a dense product with the operator folded onto the quarter grid (the
 problem and its unique solution are symmetric in x and y), the whole iteration compiled with
 numba (measured 0.1 ms at 20×20, 2 ms at 48×44, against 3 and 11 ms for the Python loop with
 FFTs); for larger grids zero-padded FFTs (linear convolution) as before.
@@ -23,13 +23,12 @@ normalised solution is cached per (mx, my, scale, a/b, tol).
 from __future__ import annotations
 
 import math
-from collections import OrderedDict
-from functools import lru_cache
 
 import numpy as np
 import scipy.fft as sfft
 from numba import njit
 
+from ..cache import cached
 from ..hertz import ellipse_curvatures
 from .influence import element_integrals, normal_kernel_fft
 
@@ -89,10 +88,10 @@ def _solve_pk_fft(mx: int, my: int, dx: float, dy: float, h: np.ndarray, total: 
 # (symmetric, since I_R is even in both offsets) and every full-grid sum becomes a weighted
 # quarter sum with weight = number of distinct images (1, 2 or 4). Polonsky-Keer's iteration on
 # the quarter with these weights is the full-grid iteration (up to rounding), at 1/16 of the
-# cost of a dense full-grid product. Used when the quarter has at most _DENSE_MAX elements
+# cost of a dense full-grid product. Used when the quarter has at most DENSE_MAX elements
 # (the dense product beats the zero-padded FFTs there); the FFT path is kept for larger grids.
 
-_DENSE_MAX = 1200
+DENSE_MAX = 1200
 
 
 @njit(cache=True)
@@ -234,7 +233,7 @@ def _solve_pk_dense(At, w, h, total, tol, maxit, p):
     return it, err
 
 
-@lru_cache(maxsize=16)
+@cached(16)
 def folded_operator(mx: int, my: int, ratio: float) -> tuple[np.ndarray, np.ndarray]:
     """(A^T, w) of the folded quarter problem (see above); cached per grid and dy/dx."""
     ir = element_integrals(mx, my, ratio)[0]
@@ -246,10 +245,11 @@ def folded_operator(mx: int, my: int, ratio: float) -> tuple[np.ndarray, np.ndar
 
 
 def _solve_pk(mx: int, my: int, dx: float, dy: float, h: np.ndarray, total: float,
-              tol: float, maxit: int, p_start: np.ndarray) -> tuple[np.ndarray, int, float]:
+              tol: float, maxit: int, p_start: np.ndarray,
+              dense_max: int) -> tuple[np.ndarray, int, float]:
     """Dispatch: folded dense quarter iteration for small grids, else the FFT iteration."""
     hx, hy = (mx + 1) // 2, (my + 1) // 2
-    if hx * hy > _DENSE_MAX:
+    if hx * hy > dense_max:
         return _solve_pk_fft(mx, my, dx, dy, h, total, tol, maxit, p_start)
     At, w = folded_operator(mx, my, dy / dx)
     p = np.ascontiguousarray(p_start[:hy, :hx]).ravel().copy()
@@ -263,23 +263,17 @@ def _solve_pk(mx: int, my: int, dx: float, dy: float, h: np.ndarray, total: floa
     return full, it, err
 
 
-_CACHE: OrderedDict = OrderedDict()
-_CACHE_SIZE = 64
-
-
+@cached(64)
 def normalised_pressure(mx: int, my: int, scale: float, a_over_b: float, kind: str,
-                        tol: float = 1e-12, maxit: int = 500) -> tuple[np.ndarray, int, float]:
+                        tol: float = 1e-12, maxit: int = 500,
+                        dense_max: int = DENSE_MAX) -> tuple[np.ndarray, int, float]:
     """p/p0 (p0 = 3N/(2πab)) at the element centres, shape (my, mx); total Σ p̂ dx̂ dŷ = 2π/3.
 
     ``kind="numerical"``: Polonsky–Keer solution of the discrete problem; ``"hertz"``: Hertz's
     √(1 - x²/a² - y²/b²) at the centres, rescaled so that the discrete total force is exact.
-    Also returns (iterations, final change) of the normal solver. Cached; read-only arrays.
+    Also returns (iterations, final change) of the normal solver. ``dense_max``: the largest
+    quarter grid solved with the dense folded operator (else FFT). Cached; read-only arrays.
     """
-    key = (mx, my, scale, a_over_b, kind, tol)
-    hit = _CACHE.get(key)
-    if hit is not None:
-        _CACHE.move_to_end(key)
-        return hit
     # dimensionless coordinates: x̂ = x/a, ŷ = y/b;  dx̂ = 2 scale/mx etc.
     dxh, dyh = 2.0 * scale / mx, 2.0 * scale / my
     xh = -scale + (np.arange(mx) + 0.5) * dxh
@@ -300,20 +294,12 @@ def normalised_pressure(mx: int, my: int, scale: float, a_over_b: float, kind: s
         X = xh * a
         Y = yh * b
         h = (ca * X[None, :] ** 2 + cb * Y[:, None] ** 2) * math.pi / dx
-        p, it, err = _solve_pk(mx, my, dx, dyh * b, h, total, tol, maxit, p_hertz)
+        p, it, err = _solve_pk(mx, my, dx, dyh * b, h, total, tol, maxit, p_hertz,
+                               dense_max)
         # The exact solution is symmetric in x and y: remove rounding-level asymmetry (so that
         # the contact set and the tangential solution are exactly mirror-symmetric).
         p = 0.25 * (p + p[::-1] + p[:, ::-1] + p[::-1, ::-1])
         p[p < 1e-12 * p.max()] = 0.0
         p *= total / p.sum()
     p.setflags(write=False)
-    out = (p, it, err)
-    _CACHE[key] = out
-    if len(_CACHE) > _CACHE_SIZE:
-        _CACHE.popitem(last=False)
-    return out
-
-
-def clear_cache() -> None:
-    """Forget the cached normal solutions (benchmarks of fully cold solves)."""
-    _CACHE.clear()
+    return p, it, err

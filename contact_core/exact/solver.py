@@ -8,8 +8,9 @@ tractions. Steps:
 
 1. normal problem on the grid (:mod:`.normal`; Polonsky–Keer CG), or Hertz's pressure at the
    element centres (``normal="hertz"``); both scaled to the exact total N;
-2. tangential steady-rolling problem (:mod:`.tangential`; SteadyGS-type block Gauss–Seidel with
-   the traction differences as unknowns) with the influence coefficients of :mod:`.influence`.
+2. tangential steady-rolling problem (:mod:`.sweeps`; SteadyGS-type block Gauss–Seidel with
+   the traction differences as unknowns, Anderson-accelerated: :mod:`.anderson`) with the
+   influence coefficients of :mod:`.influence` (:mod:`.kernels`).
 
 Sign convention as everywhere in contact_core: forces of the rail on the wheel, so that the
 small-creepage limit is ``Fx = -G c² C11 ξ`` etc. with Kalker's positive coefficients.
@@ -18,9 +19,10 @@ Effects: without ``saturation`` the friction bound is infinite (μ → ∞: ever
 the linear problem). With η = φ = 0 (e.g. ``longitudinal`` only) the problem is symmetric under
 the mirror y → -y (X even, Y odd in y; the lateral tractions are still coupled to X through the
 ν-terms of the Cerruti solution): it is solved on the half grid y >= 0 with the kernels folded
-onto it (:func:`.tangential.solve_steady_half`), every sum of the iteration weighted as on the
+onto it (:func:`.sweeps.solve_steady_half`), every sum of the iteration weighted as on the
 full grid, so the iterates are those of the full solve up to rounding (measured equal to
-~1e-16 in Fx) at 2.0-2.4x less time. Unselected outputs are reported as 0.0.
+~1e-16 in Fx) at 2.0-2.4x less time (option ``half=False`` solves the full grid). Unselected
+outputs are reported as 0.0.
 
 Warm start (``warm_start=previous_result``): the iteration starts from the previous tractions
 (scaled to the new μ p0), multiplied by the projection s of the new normalised creepages on the
@@ -28,7 +30,9 @@ old ones: exact when no element slips (the problem is then linear, p(sσ) = s p(
 sign reversal (the problem is odd), a first guess otherwise. When the previous result was itself
 warm-started, its state also holds the solution before it, and the start is extrapolated along
 the secant of the two instead (a co-simulation sequence; measured 2-4x fewer sweeps per step at
-0.1 % steps). examples/bench_exact.py reports the speed-ups against the size of the change.
+0.1 % steps). Option ``predictor``: ``"secant"`` (this, the default), ``"scale"`` (scaling
+only), ``"none"`` (the previous solution as it is). The state is an :class:`ExactWarmState`.
+examples/bench_exact.py reports the speed-ups against the size of the change.
 
 Non-convergence: if the tolerance is not reached within ``maxit`` sweeps, the result carries
 ``converged=False`` and an :class:`ExactSolverWarning` is issued (never an exception); the
@@ -38,33 +42,26 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from ..base import ContactMethod
+from ..base import ContactMethod, bool_option, choice_option, float_option, int_option
+from ..cache import cached
 from ..hertz import max_pressure
 from ..result import ContactResult
-from .influence import tangential_tables
+from .kernels import folded_kernel_tables, kernel_tables, traction_differences
 from .normal import normalised_pressure
-from .tangential import (EXTERIOR, SLIP, STICK, folded_tables, slip_field, solve_steady,
-                         solve_steady_half)
+from .sweeps import EXTERIOR, SLIP, STICK, slip_field, solve_steady, solve_steady_half
 
 
-# Anderson acceleration of the sweeps (see :func:`.tangential.solve_steady`): history depth and
-# first accelerated sweep (measured: depth 5 from sweep 2 saves 15-30 % of the sweeps; deeper
+# Anderson acceleration of the sweeps (see :mod:`.anderson`): history depth and first
+# accelerated sweep (measured: depth 5 from sweep 2 saves 15-30 % of the sweeps; deeper
 # histories gain nothing). Passed explicitly: numba's fast dispatch path needs every argument.
 _AA_DEPTH, _AA_START = 5, 2
-# η = φ = 0: solve on the half grid with the folded kernels (:func:`.tangential.folded_tables`)
-# when these take at most _FOLD_MAX_BYTES; _HALF = False forces the full grid (tests).
-_HALF = True
-_FOLD_MAX_BYTES = 64 * 2 ** 20
-# Warm start: extrapolate along the secant of the last two solutions, else scale the last one
-# (see Exact._initial); False switches either off (benchmark comparisons).
-_SECANT = True
-_SCALE = True
+#: Warm-start predictors (option ``predictor``; see the module docstring).
+PREDICTORS = ("secant", "scale", "none")
 
 
 class ExactSolverWarning(RuntimeWarning):
@@ -92,7 +89,9 @@ class ExactFields:
 
 
 @dataclass(frozen=True)
-class _Grid:
+class ContactGrid:
+    """The discretised contact of one grid and a/b: pressure and the elements in contact."""
+
     pn: np.ndarray          # p/p0 at the element centres, (my, mx)
     contact: np.ndarray     # bool (my, mx)
     e_lo: np.ndarray        # per row first/last contact element
@@ -102,16 +101,11 @@ class _Grid:
     normal_iterations: int
 
 
-_GRIDS: OrderedDict = OrderedDict()
-
-
-def _grid(mx: int, my: int, scale: float, a_over_b: float, kind: str) -> _Grid:
-    key = (mx, my, scale, a_over_b, kind)
-    g = _GRIDS.get(key)
-    if g is not None:
-        _GRIDS.move_to_end(key)
-        return g
-    pn, it, _ = normalised_pressure(mx, my, scale, a_over_b, kind)
+@cached(64)
+def contact_grid(mx: int, my: int, scale: float, a_over_b: float, normal: str) -> ContactGrid:
+    """:class:`ContactGrid` of an ``mx × my`` grid on [-scale a, scale a] × [-scale b, scale b]
+    (``normal``: "numerical" or "hertz", see :func:`.normal.normalised_pressure`)."""
+    pn, it, _ = normalised_pressure(mx, my, scale, a_over_b, normal)
     con = pn > 0.0
     rows = con.any(axis=1)
     first = np.where(rows, con.argmax(axis=1), mx)
@@ -121,17 +115,71 @@ def _grid(mx: int, my: int, scale: float, a_over_b: float, kind: str) -> _Grid:
     # q_j = p_j - p_{j+1} is non-zero for j = e_lo-1 .. e_hi, i.e. columns c = j+1 = e_lo .. e_hi+1
     c_lo = e_lo.copy()
     c_hi = np.where(rows, e_hi + 1, -1).astype(np.int64)
-    g = _Grid(pn, con, e_lo, e_hi, c_lo, c_hi, it)
-    _GRIDS[key] = g
-    if len(_GRIDS) > 64:
-        _GRIDS.popitem(last=False)
-    return g
+    return ContactGrid(pn, con, e_lo, e_hi, c_lo, c_hi, it)
 
 
-def _int_option(opts: dict, name: str, lo: int, hi: int) -> None:
-    v = opts[name]
-    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
-        raise ValueError(f"{name}={v!r} is out of range: allowed an integer {lo} <= {name} <= {hi}")
+@dataclass(frozen=True)
+class ExactWarmState:
+    """What an exact solution leaves for the next solve (``ContactResult.warm_state``).
+
+    The grid and problem it belongs to (``mx, my, scale, saturation``: a state of another grid
+    is not used; ``a_over_b, nu``: the scaled start and the secant need the same ones), the
+    solution's tractions divided by the reference scale (μ p0 with saturation, G otherwise)
+    ``px, py`` (my, mx), its normalised creepages ``sigma`` = (ξ, η, φ √(ab))/(μ p0/G), and
+    ``previous``: (px, py, sigma) of the solution it was started from, for the secant.
+    """
+
+    mx: int
+    my: int
+    scale: float
+    saturation: bool
+    a_over_b: float
+    nu: float
+    px: np.ndarray
+    py: np.ndarray
+    sigma: np.ndarray
+    previous: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    def to_record(self) -> dict[str, Any]:
+        """Data only: numbers and float arrays (``prev_px`` etc. for ``previous``)."""
+        rec: dict[str, Any] = {k: getattr(self, k) for k in _WARM_SCALARS + _WARM_ARRAYS}
+        if self.previous is not None:
+            rec.update(zip(_WARM_PREVIOUS, self.previous))
+        return rec
+
+    @classmethod
+    def from_record(cls, record: dict[str, Any]) -> "ExactWarmState":
+        """The inverse of :meth:`to_record`, checked: the keys it writes, finite numbers, a grid
+        of 4..400 elements per side, tractions of shape (my, mx) and creepages of length 3."""
+        keys = set(_WARM_SCALARS + _WARM_ARRAYS)
+        if not isinstance(record, dict) or set(record) not in (keys, keys | set(_WARM_PREVIOUS)):
+            raise ValueError(f"the warm state must have the keys {sorted(keys)} (and optionally "
+                             f"all of {list(_WARM_PREVIOUS)})")
+        for k in _WARM_SCALARS:
+            v = record[k]
+            if type(v) not in (int, float, bool) or not math.isfinite(v):
+                raise ValueError(f"warm state {k}={v!r} is not a finite number")
+        mx, my = record["mx"], record["my"]
+        if not (mx == int(mx) and my == int(my) and 4 <= mx <= 400 and 4 <= my <= 400):
+            raise ValueError(f"warm state grid {mx!r} x {my!r} is out of range: allowed whole "
+                             "numbers 4..400")
+        previous = _WARM_PREVIOUS[0] in record
+        shapes = {"px": (int(my), int(mx)), "py": (int(my), int(mx)), "sigma": (3,)}
+        for k in _WARM_ARRAYS + (_WARM_PREVIOUS if previous else ()):
+            a = record[k]
+            want = shapes[k.removeprefix("prev_")]
+            if not (isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == want
+                    and np.isfinite(a).all()):
+                raise ValueError(f"warm state {k} must be a finite float64 array of shape {want}")
+        return cls(int(mx), int(my), float(record["scale"]), bool(record["saturation"]),
+                   float(record["a_over_b"]), float(record["nu"]), record["px"], record["py"],
+                   record["sigma"],
+                   tuple(record[k] for k in _WARM_PREVIOUS) if previous else None)
+
+
+_WARM_SCALARS = ("mx", "my", "scale", "saturation", "a_over_b", "nu")
+_WARM_ARRAYS = ("px", "py", "sigma")
+_WARM_PREVIOUS = ("prev_px", "prev_py", "prev_sigma")
 
 
 class Exact(ContactMethod):
@@ -162,112 +210,45 @@ class Exact(ContactMethod):
         the tangential discretisation), or Hertz's at the element centres.
     fields : bool
         Attach an :class:`ExactFields` to the result (default False).
+    half : bool
+        Solve η = φ = 0 on the half grid (default True; False: the full grid, same result).
+    predictor : {"secant", "scale", "none"}
+        Start of a warm-started solve (module docstring; default "secant").
     """
 
     name = "exact"
     code = 4
     default_options: dict = {"mx": 24, "my": 24, "scale": 1.1, "tol": 1e-5, "maxit": 2000,
-                             "normal": "numerical", "fields": False}
+                             "normal": "numerical", "fields": False, "half": True,
+                             "predictor": "secant"}
 
     def _check_options(self) -> None:
         o = self.options
-        _int_option(o, "mx", 4, 400)
-        _int_option(o, "my", 4, 400)
-        _int_option(o, "maxit", 1, 100000)
-        s = o["scale"]
-        if not (isinstance(s, (int, float)) and not isinstance(s, bool) and 1.0 < s <= 3.0):
-            raise ValueError(f"scale={s!r} is out of range: allowed 1 < scale <= 3")
-        t = o["tol"]
-        if not (isinstance(t, (int, float)) and not isinstance(t, bool) and 0.0 < t < 1.0):
-            raise ValueError(f"tol={t!r} is out of range: allowed 0 < tol < 1")
-        if o["normal"] not in ("numerical", "hertz"):
-            raise ValueError(f"normal={o['normal']!r} is out of range: allowed 'numerical' or "
-                             "'hertz'")
-        if not isinstance(o["fields"], bool):
-            raise ValueError(f"fields={o['fields']!r} is out of range: allowed True or False")
-        o["scale"] = float(s)
-        o["tol"] = float(t)
-        self._tables: dict = {}
-
-    #: Keys of the warm state (see :meth:`_step_impl`): scalar tags, the solution's normalised
-    #: tractions and creepages, and optionally those it was started from (the secant).
-    _WARM_TAGS = ("mx", "my", "scale", "saturation", "a_over_b", "nu")
-    _WARM_FIELDS = ("px", "py", "sigma")
-    _WARM_PREVIOUS = ("prev_px", "prev_py", "prev_sigma")
+        int_option(o, "mx", 4, 400)
+        int_option(o, "my", 4, 400)
+        int_option(o, "maxit", 1, 100000)
+        float_option(o, "scale", 1.0, 3.0, lo_open=True)
+        float_option(o, "tol", 0.0, 1.0, lo_open=True, hi_open=True)
+        choice_option(o, "normal", ("numerical", "hertz"))
+        bool_option(o, "fields")
+        bool_option(o, "half")
+        choice_option(o, "predictor", PREDICTORS)
 
     @classmethod
-    def check_warm_state(cls, warm_state: Any) -> None:
-        """A warm state read from outside: the keys :meth:`_step_impl` writes, finite numbers,
-        tractions of shape (my, mx) and creepage vectors of length 3 (:meth:`_initial` relies
-        on these shapes once the tags match the grid)."""
-        if warm_state is None:
-            return
-        st = warm_state
-        keys = {"method", *cls._WARM_TAGS, *cls._WARM_FIELDS}
-        if not isinstance(st, dict) or not keys <= set(st) <= keys | set(cls._WARM_PREVIOUS):
-            raise ValueError(f"the warm state must have the keys {sorted(keys)} (and optionally "
-                             f"{list(cls._WARM_PREVIOUS)} together)")
-        if 0 < len(set(st) & set(cls._WARM_PREVIOUS)) < 3:
-            raise ValueError(f"the warm state has only some of {list(cls._WARM_PREVIOUS)}")
-        if st["method"] != cls.name:
-            raise ValueError(f"the warm state is of method {st['method']!r}, not {cls.name!r}")
-        for k in cls._WARM_TAGS:
-            v = st[k]
-            if type(v) not in (int, float) or not math.isfinite(v):
-                raise ValueError(f"warm state {k}={v!r} is not a finite number")
-        mx, my = st["mx"], st["my"]
-        if not (mx == int(mx) and my == int(my) and 4 <= mx <= 400 and 4 <= my <= 400):
-            raise ValueError(f"warm state grid {mx!r} x {my!r} is out of range: allowed whole "
-                             "numbers 4..400")
-        shapes = {"px": (int(my), int(mx)), "py": (int(my), int(mx)), "sigma": (3,)}
-        for k in (*cls._WARM_FIELDS, *cls._WARM_PREVIOUS):
-            if k not in st:
-                continue
-            a = st[k]
-            want = shapes[k.removeprefix("prev_")]
-            if not (isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == want
-                    and np.isfinite(a).all()):
-                raise ValueError(f"warm state {k} must be a finite float64 array of shape {want}")
-
-    def _kernels(self, ratio: float, nu: float) -> tuple[np.ndarray, ...]:
-        key = (ratio, nu)
-        k = self._tables.get(key)
-        if k is None:
-            o = self.options
-            k = tuple(np.ascontiguousarray(t / math.pi)
-                      for t in tangential_tables(o["mx"], o["my"], ratio, nu))
-            if len(self._tables) > 16:
-                self._tables.clear()
-            self._tables[key] = k
-        return k
-
-    def _folded(self, ratio: float, nu: float) -> tuple[np.ndarray, ...] | None:
-        """Kernel tables folded onto the half grid (None when they would be too large)."""
-        o = self.options
-        mx, my = o["mx"], o["my"]
-        npair = (my + 1) // 2
-        if 4 * npair * npair * 2 * mx * 8 > _FOLD_MAX_BYTES:
-            return None
-        key = ("folded", ratio, nu)
-        f = self._tables.get(key)
-        if f is None:
-            f = folded_tables(*self._kernels(ratio, nu), mx, my)
-            if len(self._tables) > 16:
-                self._tables.clear()
-            self._tables[key] = f
-        return f
+    def warm_state_from_record(cls, record: dict[str, Any] | None) -> ExactWarmState | None:
+        return None if record is None else ExactWarmState.from_record(record)
 
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         o = self.options
         mx, my, scale = o["mx"], o["my"], o["scale"]
         eff = self.effects
-        grid = _grid(mx, my, scale, a / b, o["normal"])
+        grid = contact_grid(mx, my, scale, a / b, o["normal"])
         p0 = max_pressure(N, a, b)
         dx, dy = 2.0 * scale * a / mx, 2.0 * scale * b / my
         x = -scale * a + (np.arange(mx) + 0.5) * dx
         y = -scale * b + (np.arange(my) + 0.5) * dy
         ratio = dy / dx
-        kxx, kxy, kyy = self._kernels(ratio, nu)
+        kxx, kxy, kyy = kernel_tables(mx, my, ratio, nu)
         con = grid.contact
         saturation = eff.saturation
         # tractions in units of G; reference scale of the warm state
@@ -280,9 +261,9 @@ class Exact(ContactMethod):
         sy = np.where(con, eta + phi * x[None, :], 0.0)
         # normalised creepages of the warm state's secant predictor
         sigma = np.array([xi, eta, phi * math.sqrt(a * b)]) / ref
-        tag = (float(mx), float(my), scale, float(saturation), a / b, float(nu))
-        px, py, start = self._initial(warm_start, tag, sigma, ref, con, bound)
-        fold = self._folded(ratio, nu) if (_HALF and eta == 0.0 and phi == 0.0) else None
+        px, py, start = self._initial(warm_start, saturation, a / b, nu, sigma, ref, con, bound)
+        fold = (folded_kernel_tables(mx, my, ratio, nu)
+                if (o["half"] and eta == 0.0 and phi == 0.0) else None)
         if fold is None:
             it, rel, px, py, status, qx, qy = self._solve_full(px, py, bound, sx, sy, con,
                                                                kxx, kxy, kyy, grid)
@@ -308,19 +289,16 @@ class Exact(ContactMethod):
                                 grid.c_hi, grid.e_lo, grid.e_hi)
             fields = ExactFields(x=x, y=y, pn=p0 * grid.pn, px=G * px, py=G * py, sx=wx, sy=wy,
                                  status=status.copy())
-        warm_state = {"method": "exact", "mx": tag[0], "my": tag[1], "scale": scale,
-                      "saturation": tag[3], "a_over_b": tag[4], "nu": tag[5],
-                      "px": px / ref, "py": py / ref, "sigma": sigma}
-        if start is not None:
-            # the solution this one was started from: the secant predictor of the next step
-            warm_state.update(prev_px=start[0], prev_py=start[1], prev_sigma=start[2])
+        # with the solution this one was started from: the secant predictor of the next step
+        warm_state = ExactWarmState(mx, my, scale, saturation, a / b, float(nu), px / ref,
+                                    py / ref, sigma, start)
         return ContactResult(Fx, Fy, Mz, self.name, slip_fraction=nslip / ncon if ncon else 0.0,
                              converged=converged, iterations=int(it), residual=float(rel),
                              fields=fields, warm_state=warm_state)
 
     def _solve_full(self, px, py, bound, sx, sy, con, kxx, kxy, kyy, grid):
         o = self.options
-        qx, qy = _differences(px, py)
+        qx, qy = traction_differences(px, py)
         status = _status(px, py, con, bound)
         it, rel = solve_steady(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy,
                                grid.c_lo, grid.c_hi, grid.e_lo, grid.e_hi, o["tol"], o["maxit"],
@@ -340,7 +318,7 @@ class Exact(ContactMethod):
             hpy[0] = 0.0                 # Y odd in y: zero on the centre row
         hb = np.ascontiguousarray(bound[h])
         hcon = con[h]
-        qx, qy = _differences(hpx, hpy)
+        qx, qy = traction_differences(hpx, hpy)
         status = _status(hpx, hpy, hcon, hb)
         it, rel = solve_steady_half(hpx, hpy, qx, qy, status, hb, np.ascontiguousarray(sx[h]),
                                     np.ascontiguousarray(sy[h]), kxx, kyy, *fold, my,
@@ -355,8 +333,8 @@ class Exact(ContactMethod):
         qy = np.concatenate([-qy[m], qy])
         return it, rel, px, py, status, qx, qy
 
-    @staticmethod
-    def _initial(warm_start: Any, tag: tuple, sigma: np.ndarray, ref: float, con: np.ndarray,
+    def _initial(self, warm_start: Any, saturation: bool, a_over_b: float, nu: float,
+                 sigma: np.ndarray, ref: float, con: np.ndarray,
                  bound: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple | None]:
         """Start from a compatible previous solution (scaled to the new μ p0), else from zero.
 
@@ -364,33 +342,32 @@ class Exact(ContactMethod):
         start is extrapolated along the secant: p = p_k + α (p_k - p_{k-1}), α the projection of
         the change of the normalised creepages σ = (ξ, η, φ √(ab))/(μ p0/G) onto the last one
         (|α| <= 3). Otherwise (same a/b and ν) p = s p_k with s = σ·σ_k/|σ_k|², then clipped
-        to the friction bound. Returns (px, py, (px/ref, py/ref, σ) of the start or None).
+        to the friction bound. ``predictor`` "scale" skips the secant, "none" both. Returns
+        (px, py, (px/ref, py/ref, σ) of the start or None).
         """
+        o = self.options
         my, mx = con.shape
         st = getattr(warm_start, "warm_state", None)
-        if not (isinstance(st, dict) and st.get("method") == "exact" and st.get("mx") == tag[0]
-                and st.get("my") == tag[1] and st.get("scale") == tag[2]
-                and st.get("saturation") == tag[3]):
+        if not (isinstance(st, ExactWarmState) and st.mx == mx and st.my == my
+                and st.scale == o["scale"] and st.saturation == saturation):
             return np.zeros((my, mx)), np.zeros((my, mx)), None
-        px_k = np.asarray(st["px"], dtype=float)
-        py_k = np.asarray(st["py"], dtype=float)
-        sig_k = st.get("sigma")
-        if sig_k is not None:
-            sig_k = np.asarray(sig_k, dtype=float)
+        px_k, py_k, sig_k = st.px, st.py, st.sigma
         px = px_k
         py = py_k
-        same = sig_k is not None and st.get("a_over_b") == tag[4] and st.get("nu") == tag[5]
+        same = st.a_over_b == a_over_b and st.nu == nu
+        predictor = o["predictor"]
         secant = False
-        if _SECANT and same and "prev_px" in st:
-            d_old = sig_k - np.asarray(st["prev_sigma"])
+        if predictor == "secant" and same and st.previous is not None:
+            prev_px, prev_py, prev_sigma = st.previous
+            d_old = sig_k - prev_sigma
             nn = float(d_old @ d_old)
             if nn > 0.0:
                 alpha = float((sigma - sig_k) @ d_old) / nn
                 if 0.0 < abs(alpha) <= 3.0:
-                    px = px_k + alpha * (px_k - np.asarray(st["prev_px"], dtype=float))
-                    py = py_k + alpha * (py_k - np.asarray(st["prev_py"], dtype=float))
+                    px = px_k + alpha * (px_k - prev_px)
+                    py = py_k + alpha * (py_k - prev_py)
                     secant = True
-        if _SCALE and same and not secant:
+        if predictor != "none" and same and not secant:
             nn = float(sig_k @ sig_k)
             if nn > 0.0:
                 s = float(sigma @ sig_k) / nn
@@ -406,18 +383,6 @@ class Exact(ContactMethod):
             py *= f
         start = (px_k, py_k, sig_k) if same else None
         return px, py, start
-
-
-def _differences(px: np.ndarray, py: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Traction differences q (rows × (mx+1)) consistent with p."""
-    my, mx = px.shape
-    qx = np.zeros((my, mx + 1))
-    qy = np.zeros((my, mx + 1))
-    qx[:, 1:] = px
-    qx[:, :mx] -= px
-    qy[:, 1:] = py
-    qy[:, :mx] -= py
-    return qx, qy
 
 
 def _status(px: np.ndarray, py: np.ndarray, con: np.ndarray, bound: np.ndarray) -> np.ndarray:

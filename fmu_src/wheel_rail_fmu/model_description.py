@@ -109,8 +109,9 @@ PHYSICAL_PARAMETERS: dict[str, tuple[str, float, str]] = {
 }
 MU_DEFAULT = 0.3
 
-#: Option names never exposed: the FMU does not return traction fields.
-HIDDEN_OPTIONS = frozenset({"fields"})
+#: Option names never exposed: the FMU returns no traction fields, and the exact solver's
+#: half-grid and warm-start switches are for benchmarks (their defaults are the best).
+HIDDEN_OPTIONS = frozenset({"fields", "half", "predictor"})
 
 _TYPES = ((bool, "Boolean"), (int, "Integer"), (float, "Real"), (str, "String"))
 

@@ -194,7 +194,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             return values[name] if values is not None else getattr(self, name)
         choice = get("invalid_input")
         if choice not in INVALID_INPUT_CHOICES:
-            raise ValueError(f"invalid_input={choice!r} is out of range: allowed "
+            raise ValueError(f"invalid_input={choice!r} is invalid: allowed "
                              f"{' or '.join(map(repr, INVALID_INPUT_CHOICES))}")
         method = get("method")
         accepted = getattr(contact_core.METHODS.get(method), "default_options", {})

@@ -15,7 +15,8 @@ Layout (little-endian)::
 
 ``values``: every FMU variable by name (Real as JSON numbers, which round-trip exactly; NaN only
 for inputs, which a host may have set). ``result``: the contact result the next step starts from
-(the exact solver's warm start), its arrays referenced as ``{"array": index}``.
+(the exact solver's warm start, written by its ``to_record()`` and read back by the method's
+``warm_state_from_record``, which checks it), its arrays referenced as ``{"array": index}``.
 """
 from __future__ import annotations
 
@@ -67,7 +68,7 @@ def write(state: FmuState) -> bytes:
         warm = None
         if r.warm_state is not None:
             warm = {}
-            for key, value in r.warm_state.items():
+            for key, value in r.warm_state.to_record().items():
                 if isinstance(value, np.ndarray):
                     warm[key] = {"array": len(arrays)}
                     arrays.append(value)
@@ -199,7 +200,7 @@ def _result(r: Any, arrays: list[np.ndarray]) -> Any:
                         f"warm state {key!r}={value!r} is not a finite number or a string")
     _expect(len(used) == len(arrays), "the state has arrays its result does not use")
     try:
-        methods[r["method"]].check_warm_state(warm)
+        warm = methods[r["method"]].warm_state_from_record(warm)
     except ValueError as e:
         raise StateError(f"the state's warm start does not fit method {r['method']!r}: {e}") \
             from None

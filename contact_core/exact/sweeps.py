@@ -1,4 +1,4 @@
-"""Steady-rolling tangential problem on the grid: a nonlinear block Gauss–Seidel solver.
+"""Steady-rolling tangential problem on the grid: a nonlinear block Gauss–Seidel solver (numba).
 
 Discrete problem (Kalker 1979, eqs 4-6 and 8; Kalker 1990, *Three-Dimensional Elastic Bodies in
 Rolling Contact*, ch. 5). Element i = (ix, iy), material flowing in -x, so the upstream
@@ -31,9 +31,9 @@ on |e(λ)| = 1. Downstream stick elements pushed beyond their bound are clipped 
 
 Every element update recomputes its slip from all traction differences (row-contiguous dot
 products against the flipped kernel tables): O(n_contact · n_grid) per sweep, compiled with numba.
-The two elements of a mirror pair of rows share every kernel load (:func:`_slip_pair`; measured
-1.4-1.8x faster per sweep than two separate sums), and the sweeps are Anderson-accelerated
-(:func:`solve_steady`; 15-30 % fewer sweeps).
+The two elements of a mirror pair of rows share every kernel load (:func:`.kernels._slip_pair`;
+measured 1.4-1.8x faster per sweep than two separate sums), and the sweeps are
+Anderson-accelerated (:mod:`.anderson`; 15-30 % fewer sweeps).
 All quantities are dimensionless: tractions in units of G, lengths of the kernel in units of dx.
 """
 from __future__ import annotations
@@ -43,100 +43,10 @@ import math
 import numpy as np
 from numba import njit
 
+from .anderson import mix
+from .kernels import _slip_at, _slip_half, _slip_pair
+
 EXTERIOR, STICK, SLIP = 0, 1, 2
-
-
-@njit(cache=True, fastmath=True, boundscheck=False, inline="always")
-def _row_dot(axx, axy, ayx, ayy, bx, by):
-    """(Σ axx·bx + axy·by, Σ ayx·bx + ayy·by) over one row of sources: the 2×2 kernel block
-    times the traction differences. Four separate accumulators so that LLVM vectorises the
-    loop (measured 4x faster than one 2×2-block accumulation)."""
-    s1 = 0.0
-    s2 = 0.0
-    s3 = 0.0
-    s4 = 0.0
-    for c in range(bx.size):
-        s1 += axx[c] * bx[c]
-        s2 += axy[c] * by[c]
-        s3 += ayx[c] * bx[c]
-        s4 += ayy[c] * by[c]
-    return s1 + s2, s3 + s4
-
-
-@njit(cache=True, fastmath=True, boundscheck=False)
-def _slip_at(ix, iy, mx, my, qx, qy, kxx, kxy, kyy, c_lo, c_hi, r_lo, r_hi):
-    """Σ_j K(i - j) q_j (2-vector) at element (ix, iy); K already divided by π (rows of
-    sources through :func:`_row_dot`)."""
-    wx = 0.0
-    wy = 0.0
-    off = mx - 1 - ix
-    for jy in range(r_lo, r_hi + 1):
-        lo = c_lo[jy]
-        hi = c_hi[jy] + 1
-        if lo >= hi:
-            continue
-        ky = iy - jy + my - 1
-        dx, dy = _row_dot(kxx[ky, off + lo:off + hi], kxy[ky, off + lo:off + hi],
-                          kxy[ky, off + lo:off + hi], kyy[ky, off + lo:off + hi],
-                          qx[jy, lo:hi], qy[jy, lo:hi])
-        wx += dx
-        wy += dy
-    return wx, wy
-
-
-@njit(cache=True, fastmath=True, boundscheck=False)
-def _slip_pair(ix, iy, iym, mx, my, qx, qy, kxx, kxy, kyy, c_lo, c_hi, r_lo, r_hi):
-    """:func:`_slip_at` at the mirror pair (ix, iy), (ix, iym = my-1-iy) in one pass.
-
-    The kernel row of offset d = iy - jy serves both: element (ix, iym) sees row jym = my-1-jy
-    through the offset iym - jym = -d, and Kxx, Kyy are even, Kxy odd in the y offset. So each
-    kernel entry is loaded once for two elements (same sums as two calls of
-    :func:`_slip_at`, in another order).
-    """
-    w1x = 0.0
-    w1y = 0.0
-    w2x = 0.0
-    w2y = 0.0
-    off = mx - 1 - ix
-    for jy in range(r_lo, r_hi + 1):
-        jym = my - 1 - jy
-        lo = min(c_lo[jy], c_lo[jym])
-        hi = max(c_hi[jy], c_hi[jym]) + 1
-        if lo >= hi:
-            continue
-        ky = iy - jy + my - 1
-        a1 = kxx[ky, off + lo:off + hi]
-        a2 = kxy[ky, off + lo:off + hi]
-        a3 = kyy[ky, off + lo:off + hi]
-        b1 = qx[jy, lo:hi]
-        b2 = qy[jy, lo:hi]
-        d1 = qx[jym, lo:hi]
-        d2 = qy[jym, lo:hi]
-        s1 = 0.0
-        s2 = 0.0
-        s3 = 0.0
-        s4 = 0.0
-        t1 = 0.0
-        t2 = 0.0
-        t3 = 0.0
-        t4 = 0.0
-        for c in range(hi - lo):
-            k1 = a1[c]
-            k2 = a2[c]
-            k3 = a3[c]
-            s1 += k1 * b1[c]
-            s2 += k2 * b2[c]
-            s3 += k2 * b1[c]
-            s4 += k3 * b2[c]
-            t1 += k1 * d1[c]
-            t2 += k2 * d2[c]
-            t3 += k2 * d1[c]
-            t4 += k3 * d2[c]
-        w1x += s1 + s2
-        w1y += s3 + s4
-        w2x += t1 - t2
-        w2y += t4 - t3
-    return w1x, w1y, w2x, w2y
 
 
 @njit(cache=True)
@@ -281,30 +191,6 @@ def _sweep(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, c_lo, c_hi, e_l
     return dif
 
 
-@njit(cache=True, fastmath=True, boundscheck=False)
-def _slip_half(ix, h, mx, qx, qy, fxx, fxy1, fxy2, fyy, c_lo, c_hi, r_lo, r_hi):
-    """Σ_j K(i - j) q_j at element (ix, h) of the half grid, for y-mirror-symmetric q.
-
-    ``fxx .. fyy[h, hj]`` are the folded kernel rows (:func:`folded_tables`): the source row hj
-    and its mirror (qx even, qy odd in y) in one table entry, so each element costs half the
-    multiply-adds of :func:`_slip_at` on the full grid.
-    """
-    wx = 0.0
-    wy = 0.0
-    off = mx - 1 - ix
-    for hj in range(r_lo, r_hi + 1):
-        lo = c_lo[hj]
-        hi = c_hi[hj] + 1
-        if lo >= hi:
-            continue
-        dx, dy = _row_dot(fxx[h, hj, off + lo:off + hi], fxy1[h, hj, off + lo:off + hi],
-                          fxy2[h, hj, off + lo:off + hi], fyy[h, hj, off + lo:off + hi],
-                          qx[hj, lo:hi], qy[hj, lo:hi])
-        wx += dx
-        wy += dy
-    return wx, wy
-
-
 @njit(cache=True, boundscheck=False)
 def _sweep_half(px, py, qx, qy, status, bound, sx, sy, kxx, kyy, fxx, fxy1, fxy2, fyy,
                 c_lo, c_hi, e_lo, e_hi, r_lo, r_hi, omega, my, wrow):
@@ -324,39 +210,6 @@ def _sweep_half(px, py, qx, qy, status, bound, sx, sy, kxx, kyy, fxx, fxy1, fxy2
             dif += wrow[h] * _update(ix, h, wx + sx[h, ix], wy + sy[h, ix], px, py, qx, qy,
                                      status, bound, cx, cy, omega)
     return dif
-
-
-def folded_tables(kxx: np.ndarray, kxy: np.ndarray, kyy: np.ndarray, mx: int,
-                  my: int) -> tuple[np.ndarray, ...]:
-    """Kernel tables folded onto the half grid for tractions X even, Y odd in y.
-
-    Half row h is the full row iy = my - npair + h (npair = ceil(my/2), y >= 0); its mirror
-    is my-1-iy. A symmetric traction difference (qx, qy) in half row hj acts on half row h
-    through offsets d = iy - jy and d' = iy - jym (jym the mirror of jy; not added when jy is
-    its own mirror, the centre row of an odd ``my``):
-
-        wx = Σ (Kxx(d) + Kxx(d')) qx + (Kxy(d) - Kxy(d')) qy,
-        wy = Σ (Kxy(d) + Kxy(d')) qx + (Kyy(d) - Kyy(d')) qy.
-
-    Returns ``(Fxx, Fxy1, Fxy2, Fyy)``, each (npair, npair, 2 mx), in the flipped x layout of
-    :mod:`.influence`.
-    """
-    npair = (my + 1) // 2
-    h = np.arange(npair)
-    iy = my - npair + h
-    jy = my - npair + h
-    jym = my - 1 - jy
-    i1 = iy[:, None] - jy[None, :] + my - 1
-    i2 = iy[:, None] - jym[None, :] + my - 1
-    m = (jym != jy).astype(float)[None, :, None]
-    out = tuple(np.ascontiguousarray(t) for t in
-                (kxx[i1] + m * kxx[i2], kxy[i1] - m * kxy[i2], kxy[i1] + m * kxy[i2],
-                 kyy[i1] - m * kyy[i2]))
-    if my % 2 == 1:
-        # centre row: wy = 0 by symmetry (exactly, not only to the rounding of the tables)
-        out[2][0] = 0.0
-        out[3][0] = 0.0
-    return out
 
 
 @njit(cache=True, boundscheck=False)
@@ -398,40 +251,6 @@ def _scatter(x, px, py, qx, qy, status, bound, iyc, ixc):
             qy[iy, c] = py[iy, c - 1] - py[iy, c]
         qx[iy, mx] = px[iy, mx - 1]
         qy[iy, mx] = py[iy, mx - 1]
-
-
-@njit(cache=True)
-def _small_solve(M, r):
-    """Solve the small system M γ = r (Gaussian elimination, partial pivoting; M, r changed).
-
-    A zero pivot (dependent differences) gives γ_j = 0 for that direction.
-    """
-    n = r.shape[0]
-    for k in range(n):
-        piv = k
-        for i in range(k + 1, n):
-            if abs(M[i, k]) > abs(M[piv, k]):
-                piv = i
-        if piv != k:
-            for j in range(n):
-                M[k, j], M[piv, j] = M[piv, j], M[k, j]
-            r[k], r[piv] = r[piv], r[k]
-        if M[k, k] == 0.0:
-            continue
-        for i in range(k + 1, n):
-            f = M[i, k] / M[k, k]
-            for j in range(k, n):
-                M[i, j] -= f * M[k, j]
-            r[i] -= f * r[k]
-    g = np.zeros(n)
-    for k in range(n - 1, -1, -1):
-        if M[k, k] == 0.0:
-            continue
-        v = r[k]
-        for j in range(k + 1, n):
-            v -= M[k, j] * g[j]
-        g[k] = v / M[k, k]
-    return g
 
 
 @njit(cache=True, boundscheck=False)
@@ -481,18 +300,12 @@ def _solve(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, fxx, fxy1, fxy2
     the mirror y -> -y (up to rounding), so the computed forces have the exact symmetries of the
     continuous problem (Fy, Mz even in ξ etc.) whatever the tolerance.
 
-    Acceleration (``depth`` > 0): Anderson mixing of the sweep map G (D. G. Anderson, J. ACM 12
-    (1965) 547-560; in the form of H. F. Walker & P. Ni, *Anderson acceleration for fixed-point
-    iterations*, SIAM J. Numer. Anal. 49 (2011) 1715-1735, with history ``depth``): from sweep
-    ``aa_start`` on, the next sweep starts from x = G(x_k) - ΔG γ, γ minimising
-    |f_k - ΔF γ| (f = G(x) - x; least squares via the small normal equations), projected onto the friction discs with the
-    stick/slip status re-derived from it. For a fixed stick/slip partition this is a Krylov
-    (GMRES-like) acceleration of the Gauss–Seidel iteration, the role the Krylov/CG finishes play
-    in Vollebregt's solvers; when the partition changes it is only a better starting point for
-    the next exact sweep. The history is dropped when the update grows. The returned iterate
-    is always the output of a plain sweep (feasible, |p| <= μ p_n) and the stopping test is the
-    update of that sweep, as without acceleration. Mixing commutes with the y-mirror, so the
-    symmetry above is kept.
+    Acceleration (``depth`` > 0): from sweep ``aa_start`` on, the next sweep starts from the
+    Anderson mixture of the last ``depth`` + 1 sweeps (:func:`.anderson.mix`), projected onto the
+    friction discs with the stick/slip status re-derived from it (:func:`_scatter`); the history
+    is dropped when the update grows. The returned iterate is always the output of a plain sweep
+    (feasible, |p| <= μ p_n) and the stopping test is the update of that sweep. Mixing commutes
+    with the y-mirror, so the symmetry above is kept.
     Half grid (:func:`solve_steady_half`): ``fxx`` non-empty, ``my_full`` the full row count,
     ``wrow`` the row weights of the sums; full grid: ``wrow`` = 1.
     Returns (sweeps, relative rms update of the last sweep).
@@ -566,40 +379,7 @@ def _solve(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, fxx, fxy1, fxy2
         nh = min(nh + 1, m + 1)
         if it < aa_start or nh < 2:
             continue
-        nd = nh - 1
-        # least squares through the (nd × nd) normal equations of the differences: γ only
-        # steers the next starting point (the sweeps correct any inaccuracy of it)
-        ia = np.empty(nd, np.int64)
-        for j in range(nd):
-            ia[j] = (cur - nd + j + m + 1) % (m + 1)
-        M = np.zeros((nd, nd))
-        rhs = np.zeros(nd)
-        for i in range(2 * n):
-            fc = gs[cur, i] - xs[cur, i]
-            for j in range(nd):
-                a = ia[j]
-                b = (a + 1) % (m + 1)
-                dfj = (gs[b, i] - xs[b, i]) - (gs[a, i] - xs[a, i])
-                dfv[j] = dfj
-                rhs[j] += wel[i] * dfj * fc
-            for j in range(nd):
-                for l in range(j + 1):
-                    M[j, l] += wel[i] * dfv[j] * dfv[l]
-        tr = 0.0
-        for j in range(nd):
-            for l in range(j):
-                M[l, j] = M[j, l]
-            tr += M[j, j]
-        for j in range(nd):
-            M[j, j] += 1e-13 * tr
-        gamma = _small_solve(M, rhs)
-        for i in range(2 * n):
-            v = gs[cur, i]
-            for j in range(nd):
-                a = ia[j]
-                b = (a + 1) % (m + 1)
-                v -= (gs[b, i] - gs[a, i]) * gamma[j]
-            x[i] = v
+        mix(xs, gs, cur, nh, wel, dfv, x)
         _scatter(x, px, py, qx, qy, status, bound, iyc, ixc)
     return it, rel
 
