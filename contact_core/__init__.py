@@ -17,6 +17,7 @@ from .hertz import (HertzGeometry, HertzPatch, hertz, hertz_from_radii, hertz_ge
 from .material import contact_modulus, shear_modulus
 from .result import ContactResult
 from .scene import DEFAULT_SCENE, Scene, load_scene, scenes
+from .variables import VARIABLES, Variable, scene_variables
 from .wheel_rail import WheelRailConfig, WheelRailEvaluator
 
 __all__ = [
@@ -26,4 +27,5 @@ __all__ = [
     "hertz_from_radii", "hertz_geometry", "make_solver", "methods", "shear_modulus", "solve",
     "wheel_rail_curvatures",
 ]
-__all__ += ["DEFAULT_SCENE", "Scene", "WheelRailConfig", "WheelRailEvaluator", "load_scene", "scenes"]
+__all__ += ["DEFAULT_SCENE", "Scene", "VARIABLES", "Variable", "WheelRailConfig",
+            "WheelRailEvaluator", "load_scene", "scene_variables", "scenes"]

@@ -15,6 +15,7 @@ import numpy as np
 
 from .effects import ALL_EFFECTS, Effects
 from .result import ContactResult, make_result
+from .variables import out_of_range
 
 
 def _bad(name: str, value: float, allowed: str) -> ValueError:
@@ -78,17 +79,19 @@ def bool_option(options: dict[str, Any], name: str) -> bool:
 def check_inputs(xi: float, eta: float, phi: float, N: float, mu: float,
                  a: float, b: float, G: float, nu: float) -> None:
     """Raise ``ValueError`` naming the first invalid argument and its allowed range."""
+    # Inline tests (this runs at every call); the ranges and messages of the contact's
+    # variables are those of contact_core.variables.
     isfinite = math.isfinite
     if not isfinite(xi):
-        raise _bad("xi", xi, "a finite number (longitudinal creepage, dimensionless)")
+        raise out_of_range("xi", xi)
     if not isfinite(eta):
-        raise _bad("eta", eta, "a finite number (lateral creepage, dimensionless)")
+        raise out_of_range("eta", eta)
     if not isfinite(phi):
-        raise _bad("phi", phi, "a finite number (spin, 1/m)")
+        raise out_of_range("phi", phi)
     if not (isfinite(N) and N >= 0.0):
         raise _bad("N", N, "0 <= N < inf (normal load, N)")
     if not (isfinite(mu) and mu >= 0.0):
-        raise _bad("mu", mu, "0 <= mu < inf (friction coefficient)")
+        raise out_of_range("mu", mu)
     if not (isfinite(a) and a > 0.0):
         raise _bad("a", a, "0 < a < inf (semi-axis along rolling direction, m)")
     if not (isfinite(b) and b > 0.0):
@@ -96,7 +99,7 @@ def check_inputs(xi: float, eta: float, phi: float, N: float, mu: float,
     if not (isfinite(G) and G > 0.0):
         raise _bad("G", G, "0 < G < inf (shear modulus, Pa)")
     if not (0.0 <= nu < 0.5):
-        raise _bad("nu", nu, "0 <= nu < 0.5 (Poisson's ratio)")
+        raise out_of_range("nu", nu)
 
 
 class ContactMethod(ABC):

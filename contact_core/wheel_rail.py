@@ -36,6 +36,7 @@ from .effects import ALL_EFFECTS, Effects, as_effects
 from .hertz import HertzPatch, hertz_geometry, max_pressure, wheel_rail_curvatures
 from .material import shear_modulus
 from .result import ContactResult, make_result
+from .variables import DEFAULTS, check, out_of_range
 
 #: The patch of a lifted wheel (N <= 0).
 LIFTED_PATCH = HertzPatch(0.0, 0.0, 0.0, 0.0)
@@ -54,11 +55,13 @@ class WheelRailConfig:
     effects : Effects
         The effects to compute (a :class:`~contact_core.scene.Scene`'s ``effects``).
     mu : float
-        Friction coefficient used when :meth:`WheelRailEvaluator.evaluate` gets none, 0 <= mu < inf.
+        Friction coefficient used when :meth:`WheelRailEvaluator.evaluate` gets none.
     E, nu : float
         Young's modulus (Pa) and Poisson's ratio of wheel and rail (same material).
     R_wheel : float
-        Rolling radius, m (0 < R_wheel <= inf).
+        Rolling radius, m.
+
+    Defaults and allowed ranges: :data:`contact_core.variables.VARIABLES`.
     R_wheel_profile : float
         Transverse radius of the wheel profile, m (negative: concave/hollow; 0 or inf: straight,
         i.e. a conical tread; 0 is the finite form FMI hosts need).
@@ -70,12 +73,12 @@ class WheelRailConfig:
 
     method: str = "johnson_vermeulen"
     effects: Effects = ALL_EFFECTS
-    mu: float = 0.3
-    E: float = 210e9
-    nu: float = 0.28
-    R_wheel: float = 0.46
-    R_wheel_profile: float = 0.0
-    R_rail_profile: float = 0.3
+    mu: float = DEFAULTS["mu"]
+    E: float = DEFAULTS["E"]
+    nu: float = DEFAULTS["nu"]
+    R_wheel: float = DEFAULTS["R_wheel"]
+    R_wheel_profile: float = DEFAULTS["R_wheel_profile"]
+    R_rail_profile: float = DEFAULTS["R_rail_profile"]
     options: Mapping[str, Any] | tuple[tuple[str, Any], ...] = ()
 
     def __post_init__(self) -> None:
@@ -88,18 +91,9 @@ class WheelRailConfig:
         """Raise ``ValueError`` naming the first invalid parameter and its allowed range."""
         if self.method not in METHODS:
             raise ValueError(f"method={self.method!r} is unknown: allowed {list(METHODS)}")
-        if not (math.isfinite(self.mu) and self.mu >= 0.0):
-            raise ValueError(f"mu={self.mu!r} is out of range: allowed 0 <= mu < inf "
-                             "(friction coefficient)")
-        if not (math.isfinite(self.E) and self.E > 0.0):
-            raise ValueError(f"E={self.E!r} is out of range: allowed 0 < E < inf "
-                             "(Young's modulus, Pa)")
-        if not (0.0 <= self.nu < 0.5):
-            raise ValueError(f"nu={self.nu!r} is out of range: allowed 0 <= nu < 0.5 "
-                             "(Poisson's ratio)")
+        for name in ("mu", "E", "nu", "R_wheel"):
+            check(name, getattr(self, name))
         A, B = self.curvatures()
-        if not (math.isfinite(A) and A > 0.0):
-            raise ValueError(f"R_wheel={self.R_wheel!r} is out of range: allowed 0 < R_wheel < inf")
         if not (math.isfinite(B) and B > 0.0):
             raise ValueError(
                 f"R_wheel_profile={self.R_wheel_profile!r}, R_rail_profile={self.R_rail_profile!r} "
@@ -179,5 +173,4 @@ class WheelRailEvaluator:
             self.a = self.b = self.p0 = 0.0
             self.method_code = self._code
             return self._lifted
-        raise ValueError(f"N={N!r} is out of range: allowed a finite number (normal load, N; "
-                         "N <= 0 means the wheel is lifted)")
+        raise out_of_range("N", N)

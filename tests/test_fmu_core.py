@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -81,3 +82,21 @@ def test_config_is_hashable_and_normalised():
                            options={"spin": "she", "variant": "original"},
                            effects=list(cc.EFFECT_NAMES))
     assert a == b and hash(a) == hash(b)
+
+
+@pytest.mark.parametrize("name", ["mu", "E", "nu", "R_wheel"])
+def test_configuration_checks_are_the_variable_table(name):
+    """WheelRailConfig accepts exactly the range contact_core.variables states (just inside each
+    finite bound) and names the variable and range outside it."""
+    r = cc.variables.BY_NAME[name].range
+    base = dict(mu=0.3, E=E, nu=NU, R_wheel=0.46)
+    for bound, inward, is_open in ((r.lo, math.inf, r.lo_open), (r.hi, -math.inf, r.hi_open)):
+        if math.isinf(bound):
+            continue
+        inside = math.nextafter(bound, inward) if is_open else bound
+        outside = bound if is_open else math.nextafter(bound, -inward)
+        cc.WheelRailConfig(**{**base, name: inside}).check()
+        with pytest.raises(ValueError, match=rf"{name}=.* is out of range: allowed "
+                                             rf".*{name}.*\({re.escape(r.what)}"):
+            cc.WheelRailConfig(**{**base, name: outside}).check()
+    assert cc.WheelRailConfig().__getattribute__(name) == cc.variables.DEFAULTS[name]

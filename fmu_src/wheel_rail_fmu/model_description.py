@@ -37,6 +37,8 @@ from pathlib import Path
 from typing import Any
 from xml.etree.ElementTree import Element, SubElement
 
+from .runtime import contact_core
+
 #: File name of the build configuration inside the FMU's ``resources/`` folder.
 BUILD_CONFIG = "wheel_rail_contact.json"
 
@@ -97,18 +99,6 @@ class BuildConfig:
 # Which variables
 # ----------------------------------------------------------------------------------------------
 
-#: Physical parameters: name -> (unit, default, description).
-PHYSICAL_PARAMETERS: dict[str, tuple[str, float, str]] = {
-    "E": ("Pa", 210e9, "Young's modulus of wheel and rail (same material), 0 < E < inf"),
-    "nu": ("1", 0.28, "Poisson's ratio of wheel and rail, 0 <= nu < 0.5"),
-    "R_wheel": ("m", 0.46, "Wheel rolling radius (longitudinal curvature), 0 < R_wheel < inf"),
-    "R_wheel_profile": ("m", 0.0, "Transverse radius of the wheel profile at the contact "
-                        "(negative: concave; 0: straight, i.e. a conical tread)"),
-    "R_rail_profile": ("m", 0.3, "Rail crown radius at the contact (convex positive; 0: "
-                       "straight); 1/R_wheel_profile + 1/R_rail_profile > 0"),
-}
-MU_DEFAULT = 0.3
-
 #: Option names never exposed: the FMU returns no traction fields, and the exact solver's
 #: half-grid and warm-start switches are for benchmarks (their defaults are the best).
 HIDDEN_OPTIONS = frozenset({"fields", "half", "predictor"})
@@ -136,7 +126,7 @@ def option_parameters(methods: dict[str, type]) -> list[VarSpec]:
             if opt in HIDDEN_OPTIONS or _fmi_type(default) is None:
                 continue
             by_name.setdefault(opt, []).append((mname, default))
-    reserved = set(_BASE_NAMES) | set(PHYSICAL_PARAMETERS)
+    reserved = set(contact_core.variables.BY_NAME) | set(FMU_PARAMETERS)
     specs = []
     for opt, users in by_name.items():
         shared = len({(type(d), d) for _, d in users}) == 1 and opt not in reserved
@@ -153,75 +143,51 @@ def option_parameters(methods: dict[str, type]) -> list[VarSpec]:
     return specs
 
 
-_BASE_NAMES = ("xi", "eta", "phi", "N", "mu", "Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction",
-               "method_used", "method", "invalid_input")
+#: Parameters of the FMU itself (not of the contact): the method and what a refused step returns.
+FMU_PARAMETERS = ("method", "invalid_input")
 #: What a step with a NaN or infinite input returns (parameter ``invalid_input``).
 INVALID_INPUT_CHOICES = ("discard", "error")
 
 
+def _description(v) -> str:
+    r = v.range
+    bounded = r is not None and (r.lo, r.hi) != (-math.inf, math.inf)
+    return v.description + (f"; allowed {r.text(v.name)}" if bounded else "")
+
+
 def variables_for(effects: tuple[str, ...], method: str, methods: dict[str, type],
                   parameters: dict[str, Any] | None = None) -> list[VarSpec]:
-    """The variables of an FMU built for ``effects`` with default ``method``.
+    """The variables of an FMU built for ``effects`` with default ``method``: the contact's
+    (:func:`contact_core.variables.scene_variables`), the FMU's own parameters and the options
+    of the registered methods.
 
     ``methods`` is the registry (name -> class with ``code`` and ``default_options``);
     ``parameters`` overrides start values of parameters by name.
     """
-    eff = set(effects)
+    table = contact_core.variables.scene_variables(contact_core.Effects.from_names(effects))
     overrides = dict(parameters or {})
-    inputs: list[VarSpec] = []
-    if "longitudinal" in eff:
-        inputs.append(VarSpec("xi", "Real", "input", "continuous", "Longitudinal creepage: "
-                              "longitudinal rigid slip velocity / rolling speed", "1", 0.0))
-    if "lateral" in eff:
-        inputs.append(VarSpec("eta", "Real", "input", "continuous", "Lateral creepage: "
-                              "lateral rigid slip velocity / rolling speed", "1", 0.0))
-    if "spin" in eff:
-        inputs.append(VarSpec("phi", "Real", "input", "continuous", "Spin creepage: "
-                              "rigid spin angular velocity / rolling speed", "1/m", 0.0))
-    inputs.append(VarSpec("N", "Real", "input", "continuous", "Normal load; N <= 0 means the "
-                          "wheel is lifted: zero forces, moment and patch", "N", 0.0))
-    if "variable_friction" in eff:
-        inputs.append(VarSpec("mu", "Real", "input", "continuous", "Friction coefficient "
-                              "(time-varying), 0 <= mu < inf", "1", MU_DEFAULT))
+    inputs = [VarSpec(v.name, v.type, "input", "continuous", _description(v), v.unit, v.default)
+              for v in table if v.causality == "input"]
     all_in = tuple(v.name for v in inputs)
-
-    outputs: list[VarSpec] = []
-    kw = dict(causality="output", variability="continuous", initial="calculated")
-    if "longitudinal" in eff:
-        outputs.append(VarSpec("Fx", "Real", description="Longitudinal creep force of the rail on "
-                               "the wheel (Kalker's sign convention)", unit="N", depends=all_in,
-                               **kw))
-    if "lateral" in eff:
-        outputs.append(VarSpec("Fy", "Real", description="Lateral creep force of the rail on the "
-                               "wheel (Kalker's sign convention)", unit="N", depends=all_in, **kw))
-    if "spin" in eff:
-        outputs.append(VarSpec("Mz", "Real", description="Spin moment about the contact normal",
-                               unit="N.m", depends=all_in, **kw))
-    outputs += [
-        VarSpec("a", "Real", description="Hertz semi-axis along the rolling direction", unit="m",
-                depends=("N",), **kw),
-        VarSpec("b", "Real", description="Hertz semi-axis across the rolling direction", unit="m",
-                depends=("N",), **kw),
-        VarSpec("p0", "Real", description="Maximum Hertz pressure", unit="Pa", depends=("N",),
-                **kw),
-        VarSpec("slip_fraction", "Real", description="Fraction of the contact area in slip, 0..1",
-                unit="1", depends=all_in, **kw),
-        VarSpec("method_used", "Integer", "output", "discrete", "Code of the method that computed "
-                "the outputs: " + ", ".join(f"{c.code} = {n}" for n, c in methods.items()),
-                initial="calculated"),
-    ]
-
+    outputs = []
+    for v in table:
+        if v.causality != "output":
+            continue
+        desc = v.description
+        if v.name == "method_used":
+            desc += ": " + ", ".join(f"{c.code} = {n}" for n, c in methods.items())
+        outputs.append(VarSpec(v.name, v.type, "output",
+                               "continuous" if v.type == "Real" else "discrete", desc, v.unit,
+                               initial="calculated",
+                               depends=all_in if v.depends is None else v.depends))
     params = [VarSpec("method", "String", "parameter", "fixed", "Contact method, one of: "
                       + ", ".join(methods), start=method, initial="exact"),
               VarSpec("invalid_input", "String", "parameter", "fixed", "Status of a step with a "
                       "NaN or infinite input: 'discard' (fmi2Discard, the host may retry) or "
                       "'error' (fmi2Error, for hosts that go on after fmi2Discard)",
                       start=INVALID_INPUT_CHOICES[0], initial="exact")]
-    if "saturation" in eff and "variable_friction" not in eff:
-        params.append(VarSpec("mu", "Real", "parameter", "fixed", "Friction coefficient, "
-                              "0 <= mu < inf", "1", MU_DEFAULT, "exact"))
-    for name, (unit, default, desc) in PHYSICAL_PARAMETERS.items():
-        params.append(VarSpec(name, "Real", "parameter", "fixed", desc, unit, default, "exact"))
+    params += [VarSpec(v.name, v.type, "parameter", "fixed", _description(v), v.unit, v.default,
+                       "exact") for v in table if v.causality == "parameter"]
     params += option_parameters(methods)
 
     specs = inputs + outputs + params

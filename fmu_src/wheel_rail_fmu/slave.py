@@ -30,7 +30,7 @@ from __future__ import annotations
 from typing import Any, Callable, Mapping
 
 from . import state as fmu_state
-from .model_description import (INVALID_INPUT_CHOICES, MU_DEFAULT, BuildConfig, VarSpec,
+from .model_description import (INVALID_INPUT_CHOICES, BuildConfig, VarSpec,
                                 finalize_model_description, variables_for)
 from .runtime import contact_core, load_notices, pythonfmu
 
@@ -73,7 +73,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         # Inputs of effects the scene leaves out are 0 (the core requires that); mu is a parameter
         # or an input, or unused (no saturation: the core's mu -> inf limit).
         self.xi = self.eta = self.phi = 0.0
-        self.mu = MU_DEFAULT
+        self.mu = contact_core.variables.DEFAULTS["mu"]
         self._by_vr: dict[int, VarSpec] = {}
         self._refusal = Fmi2Status.discard
         self._mode = "instantiated"
@@ -206,7 +206,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
                     options[opt] = get(spec.name)
         return contact_core.WheelRailConfig(
             method=method, effects=self._build.effects,
-            mu=float(get("mu")) if "mu" in self._names else MU_DEFAULT, E=float(get("E")),
+            mu=float(get("mu")) if "mu" in self._names else self.mu, E=float(get("E")),
             nu=float(get("nu")), R_wheel=float(get("R_wheel")),
             R_wheel_profile=float(get("R_wheel_profile")),
             R_rail_profile=float(get("R_rail_profile")), options=options)

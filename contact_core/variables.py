@@ -1,0 +1,137 @@
+"""The variables of one wheel–rail contact: one table for the evaluator, the FMU and its checks.
+
+Each :class:`Variable` states its name, causality (input, output or parameter of a contact
+evaluated step by step), type, SI unit, the effect that brings it (:mod:`.effects`; None:
+always there), its default and its allowed range. :class:`~contact_core.WheelRailConfig` takes
+its defaults and range checks from here, and the FMU (``wheel_rail_fmu.model_description``)
+declares exactly :func:`scene_variables`, so a scene exposes only the variables of its effects.
+
+The friction coefficient ``mu`` is an input with ``variable_friction``, a parameter with
+``saturation`` alone, and absent without saturation (it does not enter the result).
+Sign convention of the outputs: Kalker 1979 sec. 2 (forces of the rail on the wheel).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from .effects import Effects
+
+_INF = math.inf
+
+
+@dataclass(frozen=True)
+class Range:
+    """An interval of allowed values; ``what`` names the quantity in error messages."""
+
+    lo: float
+    hi: float
+    lo_open: bool
+    hi_open: bool
+    what: str
+
+    def contains(self, value: float) -> bool:
+        if math.isnan(value):
+            return False
+        above = self.lo < value if self.lo_open else self.lo <= value
+        below = value < self.hi if self.hi_open else value <= self.hi
+        return above and below
+
+    def text(self, name: str) -> str:
+        if self.lo == -_INF and self.hi == _INF:
+            return f"a finite number ({self.what})"
+        return (f"{self.lo:g} {'<' if self.lo_open else '<='} {name} "
+                f"{'<' if self.hi_open else '<='} {self.hi:g} ({self.what})")
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One variable of a contact; ``depends``: for outputs, the inputs they depend on (None:
+    all of them)."""
+
+    name: str
+    causality: str
+    type: str
+    unit: str | None
+    description: str
+    effect: str | None = None
+    default: float | None = None
+    range: Range | None = None
+    depends: tuple[str, ...] | None = None
+
+
+def _finite(what: str) -> Range:
+    return Range(-_INF, _INF, True, True, what)
+
+
+VARIABLES: tuple[Variable, ...] = (
+    Variable("xi", "input", "Real", "1", "Longitudinal creepage: longitudinal rigid slip "
+             "velocity / rolling speed", "longitudinal", 0.0,
+             _finite("longitudinal creepage, dimensionless")),
+    Variable("eta", "input", "Real", "1", "Lateral creepage: lateral rigid slip velocity / "
+             "rolling speed", "lateral", 0.0, _finite("lateral creepage, dimensionless")),
+    Variable("phi", "input", "Real", "1/m", "Spin creepage: rigid spin angular velocity / "
+             "rolling speed", "spin", 0.0, _finite("spin, 1/m")),
+    Variable("N", "input", "Real", "N", "Normal load; N <= 0 means the wheel is lifted: zero "
+             "forces, moment and patch", None, 0.0,
+             _finite("normal load, N; N <= 0 means the wheel is lifted")),
+    Variable("mu", "input", "Real", "1", "Friction coefficient", "saturation", 0.3,
+             Range(0.0, _INF, False, True, "friction coefficient")),
+    Variable("Fx", "output", "Real", "N", "Longitudinal creep force of the rail on the wheel "
+             "(Kalker's sign convention)", "longitudinal"),
+    Variable("Fy", "output", "Real", "N", "Lateral creep force of the rail on the wheel "
+             "(Kalker's sign convention)", "lateral"),
+    Variable("Mz", "output", "Real", "N.m", "Spin moment about the contact normal", "spin"),
+    Variable("a", "output", "Real", "m", "Hertz semi-axis along the rolling direction",
+             depends=("N",)),
+    Variable("b", "output", "Real", "m", "Hertz semi-axis across the rolling direction",
+             depends=("N",)),
+    Variable("p0", "output", "Real", "Pa", "Maximum Hertz pressure", depends=("N",)),
+    Variable("slip_fraction", "output", "Real", "1", "Fraction of the contact area in slip, "
+             "0..1"),
+    Variable("method_used", "output", "Integer", None, "Code of the method that computed the "
+             "outputs", depends=()),
+    Variable("E", "parameter", "Real", "Pa", "Young's modulus of wheel and rail (same "
+             "material)", None, 210e9, Range(0.0, _INF, True, True, "Young's modulus, Pa")),
+    Variable("nu", "parameter", "Real", "1", "Poisson's ratio of wheel and rail", None, 0.28,
+             Range(0.0, 0.5, False, True, "Poisson's ratio")),
+    Variable("R_wheel", "parameter", "Real", "m", "Wheel rolling radius (longitudinal "
+             "curvature)", None, 0.46, Range(0.0, _INF, True, True, "rolling radius, m")),
+    Variable("R_wheel_profile", "parameter", "Real", "m", "Transverse radius of the wheel "
+             "profile at the contact (negative: concave; 0: straight, i.e. a conical tread); "
+             "1/R_wheel_profile + 1/R_rail_profile > 0", None, 0.0),
+    Variable("R_rail_profile", "parameter", "Real", "m", "Rail crown radius at the contact "
+             "(convex positive; 0: straight); 1/R_wheel_profile + 1/R_rail_profile > 0", None,
+             0.3),
+)
+#: Variables by name.
+BY_NAME = {v.name: v for v in VARIABLES}
+#: Defaults by name (inputs and parameters).
+DEFAULTS = {v.name: v.default for v in VARIABLES if v.default is not None}
+
+
+def out_of_range(name: str, value: float) -> ValueError:
+    """The error for ``value`` outside the range of the variable ``name``."""
+    return ValueError(f"{name}={value!r} is out of range: allowed "
+                      f"{BY_NAME[name].range.text(name)}")
+
+
+def check(name: str, value: float) -> float:
+    """``value`` if it is in the range of the variable ``name``, else :func:`out_of_range`."""
+    if not BY_NAME[name].range.contains(value):
+        raise out_of_range(name, value)
+    return value
+
+
+def scene_variables(effects: Effects) -> tuple[Variable, ...]:
+    """The variables of a contact computing ``effects`` (see the module docstring for mu)."""
+    out = []
+    for v in VARIABLES:
+        if v.name == "mu":
+            if effects.variable_friction:
+                out.append(replace(v, description=v.description + " (time-varying)"))
+            elif effects.saturation:
+                out.append(replace(v, causality="parameter"))
+        elif v.effect is None or getattr(effects, v.effect):
+            out.append(v)
+    return tuple(out)
