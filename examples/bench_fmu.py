@@ -23,9 +23,11 @@ import time
 from pathlib import Path
 
 import numpy as np
+from fmpy import read_model_description
 
 import contact_core as cc
 from wheel_rail_fmu.build import build
+from wheel_rail_fmu.host import FmuInstance
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -38,38 +40,22 @@ def build_trivial(out: Path) -> Path:
     return Path(FmuBuilder.build_FMU(ROOT / "examples/trivial_fmu/trivial_contact.py", dest=out))
 
 
-class Session:
-    """One FMU2Slave instance, initialised, with its input/output value references."""
+class Session(FmuInstance):
+    """One initialised instance (the start values it has) with its inputs and Real outputs."""
 
     def __init__(self, path: Path, start: dict | None = None) -> None:
-        from fmpy import extract, read_model_description
-        from fmpy.fmi2 import FMU2Slave
-        md = read_model_description(str(path))
-        self.unzip = extract(str(path))
-        self.vr = {v.name: v for v in md.modelVariables}
-        self.inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-        self.outputs = [v.name for v in md.modelVariables
+        names = {v.name for v in read_model_description(str(path)).modelVariables}
+        super().__init__(path, "bench", {k: v for k, v in (start or {}).items() if k in names},
+                         logging_on=False)
+        self.inputs = [n for n, v in self.vars.items() if v.causality == "input"]
+        self.outputs = [n for n, v in self.vars.items()
                         if v.causality == "output" and v.type == "Real"]
-        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self.unzip,
-                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bench")
-        self.fmu.instantiate()
-        self.fmu.setupExperiment(startTime=0.0)
-        self.fmu.enterInitializationMode()
-        for name, value in (start or {}).items():
-            if name not in self.vr:
-                continue
-            v = self.vr[name]
-            vr = [v.valueReference]
-            {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger,
-             "String": self.fmu.setString,
-             "Boolean": self.fmu.setBoolean}[v.type](vr, [value])
-        self.fmu.exitInitializationMode()
 
     def run(self, steps: int) -> float:
         """µs per setReal + doStep + getReal over ``steps`` steps."""
         fmu = self.fmu
-        vin = [self.vr[n].valueReference for n in self.inputs]
-        vout = [self.vr[n].valueReference for n in self.outputs]
+        vin = [self.vr(n) for n in self.inputs]
+        vout = [self.vr(n) for n in self.outputs]
         base = {"xi": 1e-3, "eta": -5e-4, "phi": 0.2, "N": 1e5, "mu": 0.3}
         rng = np.random.default_rng(0)
         scale = 1.0 + 0.1 * rng.random(steps)
@@ -84,9 +70,6 @@ class Session:
             t += dt
         return (time.perf_counter() - t0) / steps * 1e6
 
-    def close(self) -> None:
-        self.fmu.terminate()
-        self.fmu.freeInstance()
 
 
 def measure(cases: dict[str, tuple[Path, dict | None]], steps: int, repeat: int,
@@ -107,7 +90,7 @@ def measure(cases: dict[str, tuple[Path, dict | None]], steps: int, repeat: int,
         return times
     finally:
         for s in sessions.values():
-            s.close()
+            s.free()
 
 
 def method_start(method: str) -> dict:

@@ -28,8 +28,6 @@ from __future__ import annotations
 import gc
 import hashlib
 import math
-import shutil
-import tempfile
 import time
 import warnings
 from contextlib import contextmanager
@@ -129,52 +127,26 @@ def cached_fmu(build_dir: str | Path) -> Path:
     return fmu
 
 
-class _Instance:
-    """One initialised FMU2Slave with the given parameters."""
-
-    def __init__(self, md, unzip: str, params: dict[str, Any]) -> None:
-        from fmpy.fmi2 import FMU2Slave
-        self.vr = {v.name: v for v in md.modelVariables}
-        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzip,
-                             modelIdentifier=md.coSimulation.modelIdentifier,
-                             instanceName="accuracy_vs_time")
-        self.fmu.instantiate()
-        self.fmu.setupExperiment(startTime=0.0)
-        self.fmu.enterInitializationMode()
-        setters = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger,
-                   "String": self.fmu.setString, "Boolean": self.fmu.setBoolean}
-        for name, value in params.items():
-            v = self.vr.get(name)
-            if v is None:
-                raise KeyError(f"the FMU has no parameter {name!r}")
-            conv = {"Real": float, "Integer": int, "String": str, "Boolean": bool}[v.type]
-            setters[v.type]([v.valueReference], [conv(value)])
-        self.fmu.exitInitializationMode()
-        self.vin = [self.vr[n].valueReference for n in ("xi", "eta", "phi", "N", "mu")]
-        self.vout = [self.vr[n].valueReference for n in ("Fx", "Fy", "Mz")]
-        self.t = 0.0
-
-    def steps(self, rows: list[list[float]], out: np.ndarray | None = None) -> np.ndarray:
-        """Seconds of each step (setReal + doStep + getReal) over ``rows`` of inputs."""
-        fmu, vin, vout = self.fmu, self.vin, self.vout
-        set_real, do_step, get_real, clock = fmu.setReal, fmu.doStep, fmu.getReal, time.perf_counter
-        dt = np.empty(len(rows))
-        t, h = self.t, 1e-3
-        for i, row in enumerate(rows):
-            t0 = clock()
-            set_real(vin, row)
-            do_step(t, h)
-            y = get_real(vout)
-            dt[i] = clock() - t0
-            t += h
-            if out is not None:
-                out[i] = y
-        self.t = t
-        return dt
-
-    def close(self) -> None:
-        self.fmu.terminate()
-        self.fmu.freeInstance()
+def _steps(inst, rows: list[list[float]], out: np.ndarray | None = None) -> np.ndarray:
+    """Seconds of each step (setReal + doStep + getReal) of the FMU instance ``inst``
+    (:class:`wheel_rail_fmu.host.FmuInstance`) over ``rows`` of inputs (xi, eta, phi, N, mu)."""
+    fmu = inst.fmu
+    vin = [inst.vr(n) for n in ("xi", "eta", "phi", "N", "mu")]
+    vout = [inst.vr(n) for n in ("Fx", "Fy", "Mz")]
+    set_real, do_step, get_real, clock = fmu.setReal, fmu.doStep, fmu.getReal, time.perf_counter
+    dt = np.empty(len(rows))
+    t, h = inst.t, 1e-3
+    for i, row in enumerate(rows):
+        t0 = clock()
+        set_real(vin, row)
+        do_step(t, h)
+        y = get_real(vout)
+        dt[i] = clock() - t0
+        t += h
+        if out is not None:
+            out[i] = y
+    inst.t = t
+    return dt
 
 
 def time_fmu(settings: Sequence[Setting], cases: Sequence[Case], build_dir: str | Path,
@@ -186,41 +158,34 @@ def time_fmu(settings: Sequence[Setting], cases: Sequence[Case], build_dir: str 
     ``repeats`` rounds (more, up to ``max_rounds``, for cheap settings: about ``budget`` seconds
     per (setting, a/b)); ``outputs[label]`` (cases, 3): Fx, Fy, Mz of the first round.
     """
-    from fmpy import extract, read_model_description
     from tqdm.auto import tqdm
 
+    from wheel_rail_fmu.host import FmuInstance
+
     path = cached_fmu(build_dir)
-    md = read_model_description(str(path))
-    unzip = extract(str(path), unzipdir=tempfile.mkdtemp(prefix="accuracy_vs_time_fmu_"))
     groups: dict[float, list[int]] = {}
     for j, c in enumerate(cases):
         groups.setdefault(c.a_over_b, []).append(j)
     fmu_settings = [s for s in settings if s.fmu]
     per: dict[str, list[list[float]]] = {s.label: [[] for _ in cases] for s in fmu_settings}
     outputs = {s.label: np.full((len(cases), 3), np.nan) for s in fmu_settings}
-    try:
-        with tqdm(total=len(fmu_settings) * len(groups), desc="time FMU", unit="instance",
-                  disable=not progress, leave=False) as bar, _no_gc():
-            for s in fmu_settings:
-                for ab, idx in groups.items():
-                    params = {"method": s.method, **s.kwargs, **cases[idx[0]].fmu_parameters()}
-                    inst = _Instance(md, unzip, params)
-                    try:
-                        rows = [[cases[j].xi, cases[j].eta, cases[j].phi, cases[j].N,
-                                 cases[j].mu] for j in idx]
-                        out = np.empty((len(idx), 3))
-                        first = inst.steps(rows, out)   # warm-up round: outputs, caches
-                        outputs[s.label][idx] = out
-                        rounds = int(min(max_rounds, max(repeats, math.ceil(
-                            budget / max(first.sum(), 1e-9)))))
-                        for _ in range(rounds):
-                            for j, t in zip(idx, inst.steps(rows)):
-                                per[s.label][j].append(t)
-                    finally:
-                        inst.close()
-                    bar.update()
-    finally:
-        shutil.rmtree(unzip, ignore_errors=True)
+    with tqdm(total=len(fmu_settings) * len(groups), desc="time FMU", unit="instance",
+              disable=not progress, leave=False) as bar, _no_gc():
+        for s in fmu_settings:
+            for ab, idx in groups.items():
+                params = {"method": s.method, **s.kwargs, **cases[idx[0]].fmu_parameters()}
+                with FmuInstance(path, "accuracy_vs_time", params, logging_on=False) as inst:
+                    rows = [[cases[j].xi, cases[j].eta, cases[j].phi, cases[j].N,
+                             cases[j].mu] for j in idx]
+                    out = np.empty((len(idx), 3))
+                    first = _steps(inst, rows, out)   # warm-up round: outputs, caches
+                    outputs[s.label][idx] = out
+                    rounds = int(min(max_rounds, max(repeats, math.ceil(
+                        budget / max(first.sum(), 1e-9)))))
+                    for _ in range(rounds):
+                        for j, t in zip(idx, _steps(inst, rows)):
+                            per[s.label][j].append(t)
+                bar.update()
     times = {}
     for label, rows in per.items():
         n = min(len(r) for r in rows)

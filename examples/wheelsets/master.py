@@ -32,18 +32,14 @@ its start value.
 from __future__ import annotations
 
 import math
-import shutil
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Iterable, Mapping
 
 import numpy as np
-from fmpy import calloc, extract, free, read_model_description
-from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 
-_STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal", 5: "pending"}
+from wheel_rail_fmu.host import FmuInstance
 
 
 def _split(path: str) -> tuple[str, str]:
@@ -53,91 +49,32 @@ def _split(path: str) -> tuple[str, str]:
     return comp, var
 
 
-class Component:
-    """One FMU instance: instantiate, set start values, initialise; cached value references."""
+class Component(FmuInstance):
+    """One FMU instance of the co-simulation (:class:`wheel_rail_fmu.host.FmuInstance`:
+    instantiated and initialised with its start values) with the value references it exchanges
+    at every step."""
 
     def __init__(self, name: str, filename: str | Path, start_values: Mapping | None = None,
                  start_time: float = 0.0, stop_time: float | None = None) -> None:
-        self.name = name
-        self.filename = str(filename)
-        self.md = read_model_description(self.filename)
-        self.vars = {v.name: v for v in self.md.modelVariables}
-        self.unzipdir = extract(self.filename)
-        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=self.unzipdir,
-                             modelIdentifier=self.md.coSimulation.modelIdentifier,
-                             instanceName=name)
-        self.log: list[str] = []   # messages the FMU logged (status, category, message)
-
-        def logger(env, instance, status, category, message):
-            self.log.append(f"[{_STATUS.get(status, status)}] {category.decode(errors='replace')}: "
-                            f"{message.decode(errors='replace')}")
-
-        self._callbacks = fmi2CallbackFunctions()
-        self._callbacks.logger = fmi2CallbackLoggerTYPE(logger)
-        self._callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        self._callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         try:
-            self.fmu.instantiate(callbacks=self._callbacks, loggingOn=True)
+            super().__init__(filename, name, start_values, start_time=start_time,
+                             stop_time=stop_time)
         except Exception as e:
-            shutil.rmtree(self.unzipdir, ignore_errors=True)
-            raise RuntimeError(f"{name}: instantiating {self.filename} failed: {e}; log: "
-                               f"{self.log}") from None
-        self.fmu.setupExperiment(startTime=start_time, stopTime=stop_time)
-        for k, v in (start_values or {}).items():
-            self.set(k, v)
-        self.fmu.enterInitializationMode()
-        self.fmu.exitInitializationMode()
+            log = getattr(self, "messages", None)
+            raise RuntimeError(f"{name}: instantiating {filename} failed: {e}; log: "
+                               f"{self.log_text() if log else '(none)'}") from None
         self.in_vrs: list[int] = []    # inputs set each step (order of in_sources)
         self.out_vrs: list[int] = []   # Real outputs read each step
         self.out_names: list[str] = []
         self.values: dict[str, float] = {}
-        self.busy = 0.0                # wall time inside this component's calls, s
 
     def has(self, var: str) -> bool:
         return var in self.vars
-
-    def vr(self, var: str) -> int:
-        try:
-            return self.vars[var].valueReference
-        except KeyError:
-            raise KeyError(f"{self.name}: no variable {var!r} (has {sorted(self.vars)})") from None
-
-    def set(self, var: str, value) -> None:
-        v = self.vars.get(var)
-        if v is None:
-            raise KeyError(f"{self.name}: no variable {var!r} to set")
-        if v.type == "Real":
-            self.fmu.setReal([v.valueReference], [float(value)])
-        elif v.type in ("Integer", "Enumeration"):
-            self.fmu.setInteger([v.valueReference], [int(value)])
-        elif v.type == "Boolean":
-            self.fmu.setBoolean([v.valueReference], [bool(value)])
-        elif v.type == "String":
-            self.fmu.setString([v.valueReference], [str(value)])
-        else:
-            raise TypeError(f"{self.name}.{var}: unsupported type {v.type}")
-
-    def get(self, var: str) -> float:
-        v = self.vars[var]
-        if v.type == "Real":
-            return self.fmu.getReal([v.valueReference])[0]
-        if v.type in ("Integer", "Enumeration"):
-            return self.fmu.getInteger([v.valueReference])[0]
-        if v.type == "Boolean":
-            return self.fmu.getBoolean([v.valueReference])[0]
-        return self.fmu.getString([v.valueReference])[0]
 
     def read_outputs(self) -> None:
         if self.out_vrs:
             vals = self.fmu.getReal(self.out_vrs)
             self.values = dict(zip(self.out_names, vals))
-
-    def free(self) -> None:
-        try:
-            self.fmu.terminate()
-            self.fmu.freeInstance()
-        finally:
-            shutil.rmtree(self.unzipdir, ignore_errors=True)
 
 
 @dataclass

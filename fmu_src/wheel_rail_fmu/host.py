@@ -1,8 +1,9 @@
 """An FMU instance driven through fmpy's ``FMU2Slave``, with its log messages kept (host side).
 
-For tests, benchmarks and examples: values by name, typed setters/getters, statuses as fmpy's
-``FMICallException`` (``.status``), and every message the FMU logs, counted per status (the
-last :data:`KEEP` kept as text, so a long run does not grow).
+The one FMU host class of the project (tests, benchmarks, the wheelset co-simulation master):
+values by name, typed setters/getters, statuses as fmpy's ``FMICallException`` (``.status``),
+and every message the FMU logs, counted per status (the last :data:`KEEP` kept as text, so a
+long run does not grow).
 """
 from __future__ import annotations
 
@@ -14,22 +15,27 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from fmpy import calloc, extract, free, read_model_description
+from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
                        fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 from fmpy.logging import addLoggerProxy
 
 #: How many log messages an instance keeps as text.
 KEEP = 1000
-_unzipped: dict[Path, str] = {}
+STATUS_NAMES = ("ok", "warning", "discard", "error", "fatal", "pending")
+_unzipped: dict[tuple, str] = {}
 
 
 def unzipped(path: str | Path) -> str:
-    """The folder an FMU is extracted to (once per process; removed at exit)."""
+    """The folder an FMU is extracted to (once per process and version of the file; removed at
+    exit)."""
     path = Path(path).resolve()
-    if path not in _unzipped:
-        _unzipped[path] = extract(str(path))
-        atexit.register(shutil.rmtree, _unzipped[path], True)
-    return _unzipped[path]
+    st = path.stat()
+    key = (path, st.st_mtime_ns, st.st_size)
+    if key not in _unzipped:
+        _unzipped[key] = extract(str(path))
+        atexit.register(shutil.rmtree, _unzipped[key], True)
+    return _unzipped[key]
 
 
 class FmuInstance:
@@ -41,7 +47,10 @@ class FmuInstance:
 
     def __init__(self, path: str | Path, name: str = "instance",
                  start: Mapping[str, Any] | None = None, initialize: bool = True,
-                 logging_on: bool = True, start_time: float = 0.0) -> None:
+                 logging_on: bool = True, start_time: float = 0.0,
+                 stop_time: float | None = None) -> None:
+        self.path = Path(path)
+        self.name = name
         self.md = read_model_description(str(path))
         self.vars = {v.name: v for v in self.md.modelVariables}
         self.messages: deque[tuple[int, str]] = deque(maxlen=KEEP)
@@ -62,29 +71,46 @@ class FmuInstance:
                              instanceName=name)
         self.fmu.instantiate(callbacks=cb, loggingOn=logging_on)
         self.t = start_time
+        self.stop_time = stop_time
+        self.initialized = False
         if initialize:
             self.init(start)
 
     def init(self, start: Mapping[str, Any] | None = None) -> None:
         """Set up, enter initialisation mode, set ``start`` values, exit initialisation mode."""
-        self.fmu.setupExperiment(startTime=self.t)
+        self.fmu.setupExperiment(startTime=self.t, stopTime=self.stop_time)
         self.fmu.enterInitializationMode()
         self.set(**(start or {}))
         self.fmu.exitInitializationMode()
+        self.initialized = True
+
+    def variable(self, name: str):
+        """The model description's variable ``name`` (KeyError listing the names otherwise)."""
+        try:
+            return self.vars[name]
+        except KeyError:
+            raise KeyError(f"{self.name}: no variable {name!r} (has {sorted(self.vars)})") \
+                from None
+
+    def vr(self, name: str) -> int:
+        """The value reference of the variable ``name``."""
+        return self.variable(name).valueReference
 
     def set(self, **values: Any) -> None:
         for name, value in values.items():
-            v = self.vars[name]
+            v = self.variable(name)
             setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger,
-                      "Boolean": self.fmu.setBoolean, "String": self.fmu.setString}[v.type]
+                      "Enumeration": self.fmu.setInteger, "Boolean": self.fmu.setBoolean,
+                      "String": self.fmu.setString}[v.type]
             setter([v.valueReference], [value])
 
     def get(self, *names: str) -> list:
         out = []
         for name in names:
-            v = self.vars[name]
+            v = self.variable(name)
             getter = {"Real": self.fmu.getReal, "Integer": self.fmu.getInteger,
-                      "Boolean": self.fmu.getBoolean, "String": self.fmu.getString}[v.type]
+                      "Enumeration": self.fmu.getInteger, "Boolean": self.fmu.getBoolean,
+                      "String": self.fmu.getString}[v.type]
             value = getter([v.valueReference])[0]
             out.append(value.decode() if isinstance(value, bytes) else value)
         return out
@@ -99,8 +125,19 @@ class FmuInstance:
         """The kept messages logged with a status >= ``least`` (3: error)."""
         return [m for s, m in self.messages if s >= least]
 
+    def log_text(self) -> str:
+        """The kept messages, one per line with their status."""
+        return "\n".join(f"[{STATUS_NAMES[s] if 0 <= s < 6 else s}] {m}" for s, m in self.messages)
+
     def free(self) -> None:
-        self.fmu.freeInstance()
+        """Terminate (if initialised) and free the instance; the library is unloaded."""
+        try:
+            if self.initialized:
+                self.fmu.terminate()
+        except FMICallException:
+            pass  # freeing must not fail: the instance goes anyway
+        finally:
+            self.fmu.freeInstance()
 
     def __enter__(self) -> "FmuInstance":
         return self
