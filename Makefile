@@ -19,7 +19,7 @@ run: $(STAMP)
 	$(PY) examples/fastsim_traction_map.py
 	$(PY) examples/exact_traction_map.py
 	$(PY) examples/fmu_demo.py
-	$(PY) examples/wheelsets/run_hunting.py
+	$(PY) examples/run_hunting.py
 	$(PY) -m contact_core.bench --out out
 
 test: $(STAMP)

@@ -4,15 +4,13 @@ Every reference here is derived in this file, independently of the FMU code: the
 the linearised 4-state wheelset with Kalker's coefficients (numpy), Klingel's wavelength, the
 linear steady-state curving solution, the exact discrete map of the zero-order-hold coupling
 (scipy expm), and the law's own Fx(ξ) curve (contact_core.solve) for traction. The FMUs are built
-once per session (wheelset FMUs by examples/wheelsets/build.py, contact FMUs by build_fmu.py, each
-in its own process) into a temporary folder. Simulated times are short.
+once per session (wheelsets.build: the wheelset FMUs with pythonfmu, the contact FMUs with
+wheel_rail_fmu.build) into a temporary folder. Simulated times are short.
 """
 from __future__ import annotations
 
 import math
 import statistics
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -22,11 +20,10 @@ from scipy.optimize import brentq
 
 import contact_core as cc
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "examples"))
-
-from wheelsets.analysis import fit_damped  # noqa: E402
-from wheelsets.systems import CONNECTIONS, make_system  # noqa: E402
+# examples/ is on the import path (pyproject: [tool.pytest.ini_options] pythonpath)
+from wheelsets.analysis import fit_damped
+from wheelsets.build import build_contact, build_wheelsets
+from wheelsets.systems import CONNECTIONS, make_system
 
 # Reference parameters (issue 6) -------------------------------------------------------------
 R0, B0, LAM, M, IZ, W = 0.46, 0.75, 0.15, 1500.0, 800.0, 100e3
@@ -43,10 +40,9 @@ CONTACTS = [("tangent_track", "linear"), ("full", "linear"), ("full", "fastsim")
 @pytest.fixture(scope="session")
 def fmus(tmp_path_factory) -> dict[str, Path]:
     out = tmp_path_factory.mktemp("wheelset_fmus")
-    cmd = [sys.executable, str(ROOT / "examples" / "wheelsets" / "build.py"), "--out", str(out)]
+    build_wheelsets(out)
     for scene, method in CONTACTS:
-        cmd += ["--contact", f"{scene}:{method}"]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        build_contact(scene, method, out)
     paths = {p.stem: p for p in out.glob("*.fmu")}
     assert {"TangentTrackWheelset", "CurvingWheelset", "DrivenWheelsetFMU"} <= set(paths)
     return paths

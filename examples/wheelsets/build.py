@@ -1,41 +1,51 @@
-"""Build the reference wheelset FMUs (pythonfmu) into ``dist/wheelsets/``.
+"""Build the reference wheelset FMUs (pythonfmu) and, optionally, contact FMUs.
 
-    python examples/wheelsets/build.py [--out DIR] [--contact SCENE:METHOD ...]
+    python -m wheelsets.build [--out DIR] [--contact SCENE:METHOD ...]     (from examples/)
 
-Writes ``TangentTrackWheelset.fmu``, ``CurvingWheelset.fmu`` and ``DrivenWheelsetFMU.fmu``. With
-``--contact`` it also builds contact FMUs with ``wheel_rail_fmu.build`` (one per
-``SCENE:METHOD``, named ``WheelRailContact_<scene>_<method>.fmu``), so a run has everything in one
-folder. Each wheelset FMU bundles its script, ``wheelset_dynamics.py`` (the equations) and
-``wheelset_fmu_common.py`` (FMI plumbing). Run it in its own process (as ``make`` and the tests do):
-pythonfmu imports the scripts by module name while building.
+Writes ``TangentTrackWheelset.fmu``, ``CurvingWheelset.fmu`` and ``DrivenWheelsetFMU.fmu`` (default
+DIR: dist/wheelsets). With ``--contact`` it also builds contact FMUs with ``wheel_rail_fmu.build``
+(one per ``SCENE:METHOD``, named ``WheelRailContact_<scene>_<method>.fmu``), so a run has
+everything in one folder. Each wheelset FMU's slave module is ``fmu_entries/<name>.py``, which
+imports its class from this package; the FMU bundles the package's modules the models need
+(:data:`FMU_MODULES`: the equations and the FMI plumbing), as the package ``wheelsets``. The
+FMUs are built by pythonfmu and then given the contact FMU's FMI wrapper
+(``wheel_rail_fmu.build.use_native_wrapper``): pythonfmu 0.7's binary releases a reference to the
+slave module's namespace at every fmi2Instantiate and fails after a few instances per process.
 """
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
+import tempfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
-COMMON = [HERE / "wheelset_dynamics.py", HERE / "wheelset_fmu_common.py"]
-
-#: script -> extra project files
-MODELS = {
-    "tangent_track.py": [],
-    "curving.py": [HERE / "tangent_track.py"],
-    "driven_wheel.py": [],
-}
-FMU_NAMES = {"tangent_track.py": "TangentTrackWheelset", "curving.py": "CurvingWheelset",
-             "driven_wheel.py": "DrivenWheelsetFMU"}
+#: The modules of this package an FMU needs at run time.
+FMU_MODULES = ("__init__.py", "wheelset_dynamics.py", "wheelset_fmu_common.py",
+               "tangent_track.py", "curving.py", "driven_wheel.py")
+#: FMU name (its class, and the stem of its slave module in fmu_entries/).
+FMU_NAMES = ("TangentTrackWheelset", "CurvingWheelset", "DrivenWheelsetFMU")
 
 
 def build_wheelsets(out: Path) -> dict[str, Path]:
+    """Build the three wheelset FMUs into ``out``; name -> path."""
     from pythonfmu import FmuBuilder
+
+    from wheel_rail_fmu.build import use_native_wrapper
     out.mkdir(parents=True, exist_ok=True)
     paths = {}
-    for script, extra in MODELS.items():
-        path = FmuBuilder.build_FMU(HERE / script, dest=out, project_files=COMMON + extra)
-        paths[FMU_NAMES[script]] = Path(path)
+    with tempfile.TemporaryDirectory(prefix="wheelsets_") as tmp:
+        package = Path(tmp) / "wheelsets"
+        package.mkdir()
+        for name in FMU_MODULES:
+            shutil.copyfile(HERE / name, package / name)
+        for name in FMU_NAMES:
+            path = FmuBuilder.build_FMU(HERE / "fmu_entries" / f"{name}.py", dest=out,
+                                        project_files=[package])
+            use_native_wrapper(path)
+            paths[name] = Path(path)
     return paths
 
 

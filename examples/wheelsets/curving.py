@@ -13,12 +13,8 @@ L_transition (m; default 0: the curve starts at t = 0). Initial state default: c
 """
 from __future__ import annotations
 
-try:
-    from tangent_track import INITIAL_STATE, STATE_OUTPUTS, TangentTrackWheelset
-    from wheelset_dynamics import LateralParams, param_fields
-except ImportError:
-    from .tangent_track import INITIAL_STATE, STATE_OUTPUTS, TangentTrackWheelset
-    from .wheelset_dynamics import LateralParams, param_fields
+from .tangent_track import INITIAL_STATE, STATE_OUTPUTS, TangentTrackWheelset
+from .wheelset_dynamics import LateralParams, param_fields
 
 from pythonfmu import Fmi2Slave
 

@@ -21,12 +21,8 @@ that wants mid-step accuracy for a ramp sets the mid-step value).
 """
 from __future__ import annotations
 
-try:
-    from wheelset_dynamics import DrivenParams, DrivenWheelset, param_fields
-    from wheelset_fmu_common import WheelsetSlaveBase
-except ImportError:
-    from .wheelset_dynamics import DrivenParams, DrivenWheelset, param_fields
-    from .wheelset_fmu_common import WheelsetSlaveBase
+from .wheelset_dynamics import DrivenParams, DrivenWheelset, param_fields
+from .wheelset_fmu_common import WheelsetSlaveBase
 
 
 class DrivenWheelsetFMU(WheelsetSlaveBase):

@@ -22,10 +22,7 @@ import numpy as np
 from scipy.linalg import expm
 from scipy.optimize import brentq
 
-try:
-    from .systems import creep_coefficients_f
-except ImportError:
-    from systems import creep_coefficients_f
+from .systems import creep_coefficients_f
 
 
 class LinearWheelset:

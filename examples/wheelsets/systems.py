@@ -21,10 +21,7 @@ import math
 from pathlib import Path
 from typing import Callable, Mapping
 
-try:
-    from .master import CoSimulation
-except ImportError:  # run as a script from this folder
-    from master import CoSimulation
+from .master import CoSimulation
 
 CONTACTS = ("L", "R")
 

@@ -14,12 +14,8 @@ state y0, psi0, vy0, dpsi0 (default y0 = 1 mm).
 """
 from __future__ import annotations
 
-try:  # inside the FMU (resources/ is on sys.path) or as a top-level script
-    from wheelset_dynamics import LateralParams, LateralState, LateralWheelset, param_fields
-    from wheelset_fmu_common import WheelsetSlaveBase
-except ImportError:  # imported as part of the examples.wheelsets package
-    from .wheelset_dynamics import LateralParams, LateralState, LateralWheelset, param_fields
-    from .wheelset_fmu_common import WheelsetSlaveBase
+from .wheelset_dynamics import LateralParams, LateralState, LateralWheelset, param_fields
+from .wheelset_fmu_common import WheelsetSlaveBase
 
 _CURVE_ONLY = ("R", "L_transition")
 INITIAL_STATE = (("y0", 1e-3, "initial lateral displacement, m"),

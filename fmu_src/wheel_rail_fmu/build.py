@@ -171,6 +171,30 @@ def compile_wrapper(dest: Path) -> None:
         raise WrapperUnavailable(f"{' '.join(cmd)} failed:\n{done.stderr}")
 
 
+def use_native_wrapper(fmu: str | Path) -> bool:
+    """Replace the Linux binary of a pythonfmu-built FMU with this project's wrapper, which runs
+    the same slave (pythonfmu's Python interface and packaging) without pythonfmu 0.7's defects
+    (see the module docstring of ``native/fmi2_python.c``). Returns False, leaving the FMU as it
+    is, where the wrapper cannot be compiled."""
+    fmu = Path(fmu)
+    with zipfile.ZipFile(fmu) as z:
+        files = {i.filename: z.read(i) for i in z.infolist() if not i.is_dir()}
+    names = [n for n in files if n.startswith("binaries/linux64/") and n.endswith(".so")]
+    if len(names) != 1:
+        raise ValueError(f"{fmu} has {len(names)} Linux binaries: expected one")
+    with tempfile.TemporaryDirectory() as tmp:
+        so = Path(tmp) / "wrapper.so"
+        try:
+            compile_wrapper(so)
+        except WrapperUnavailable as e:
+            warnings.warn(f"{fmu.name} keeps pythonfmu's binary: {e}", RuntimeWarning,
+                          stacklevel=2)
+            return False
+        files[names[0]] = so.read_bytes()
+    _write_archive(files, fmu)
+    return True
+
+
 def _binaries(stage: Path, wrapper: str) -> dict[str, bytes]:
     """Archive name -> bytes of the binaries (see the module docstring)."""
     import pythonfmu

@@ -15,8 +15,11 @@
  *    ``fmi_status`` (1 warning, 2 discard, 3 error) to choose the status, and its text is logged
  *    before the function returns. Slaves learn this from the keyword argument
  *    ``fmi_error_status=True``;
- *  - the slave module is imported by file under its own name, and resources/ is not put on
- *    sys.path, so FMUs do not share modules unless their module names are equal;
+ *  - the slave module is imported by file under its own name (FMUs share modules only when
+ *    their names are equal; this project's FMUs name theirs after a digest of their code), and
+ *    resources/ is appended to sys.path, not put first, so project files stay importable as
+ *    with pythonfmu without shadowing the host's modules;
+ *  - fmuGUID is checked against the model description next to resources/ (FMI 2.0 sec. 2.1.5);
  *  - every reference is released exactly once; logged messages are released after delivery;
  *    messages are passed as "%s" arguments, never as format strings;
  *  - a C host needs no LD_PRELOAD: libpython is linked, and before initialising Python its
@@ -48,14 +51,22 @@
 #endif
 
 /* Key in sys.modules of the helper module below (versioned: another build may define its own). */
-#define LOADER_MODULE "_fmi2_python_loader_1"
+#define LOADER_MODULE "_fmi2_python_loader_2"
 
 static const char LOADER_SOURCE[] =
     "import importlib.util, sys, traceback\n"
     "from pathlib import Path\n"
     "\n"
-    "def load(resources):\n"
+    "def load(resources, guid):\n"
     "    folder = Path(resources)\n"
+    "    md = folder.parent / 'modelDescription.xml'\n"
+    "    if md.is_file():\n"
+    "        import xml.etree.ElementTree as ET\n"
+    "        own = ET.parse(md).getroot().get('guid')\n"
+    "        if own != guid:\n"
+    "            raise ValueError(f'fmuGUID {guid} is not the GUID of this FMU, {own}')\n"
+    "    if str(folder) not in sys.path:\n"
+    "        sys.path.append(str(folder))\n"
     "    name = (folder / 'slavemodule.txt').read_text(encoding='utf-8').strip()\n"
     "    module = sys.modules.get(name)\n"
     "    if module is None:\n"
@@ -373,7 +384,8 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     PyGILState_STATE g = PyGILState_Ensure();
     fmi2Status status = fmi2Error;
     PyObject *mod = loader();
-    in->cls = (mod && resources) ? PyObject_CallMethod(mod, "load", "(s)", resources) : NULL;
+    in->cls = (mod && resources) ? PyObject_CallMethod(mod, "load", "(ss)", resources, fmuGUID)
+                                 : NULL;
     Py_XDECREF(mod);
     if (in->cls == NULL) {
         report_exception(in, "fmi2Instantiate: loading the slave module");
@@ -384,22 +396,6 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                                    "fmi_error_status", Py_True);
         status = in->kwargs ? make_slave(in, "fmi2Instantiate")
                             : report_exception(in, "fmi2Instantiate");
-    }
-    if (status == fmi2OK) {
-        /* FMI 2.0 sec. 2.1.5: the GUID must be the one of the model description. */
-        PyObject *guid = PyObject_GetAttrString(in->slave, "guid");
-        PyObject *text = guid ? PyObject_Str(guid) : NULL;
-        const char *t = text ? PyUnicode_AsUTF8(text) : NULL;
-        if (t == NULL || strcmp(t, fmuGUID) != 0) {
-            PyErr_Clear();
-            char buf[512];
-            snprintf(buf, sizeof buf, "fmi2Instantiate: fmuGUID %.100s is not this FMU's GUID %.100s",
-                     fmuGUID, t ? t : "(unknown)");
-            log_text(in, fmi2Error, NULL, buf);
-            status = fmi2Error;
-        }
-        Py_XDECREF(text);
-        Py_XDECREF(guid);
     }
     PyGILState_Release(g);
     free(resources);

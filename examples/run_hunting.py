@@ -1,7 +1,7 @@
 """``make run`` driver: the tangent-track wheelset below and above its critical speed, coupled to
 two contact FMUs by the Gauss-Seidel master; plots and a one-page summary in ``out/``.
 
-    python examples/wheelsets/run_hunting.py [--out out] [--dist dist/wheelsets] [--no-build]
+    python examples/run_hunting.py [--out out] [--dist dist/wheelsets] [--no-build]
 
 Writes ``out/hunting_y.png`` (y(t)), ``out/hunting_psi.png`` (ψ(t)), ``out/hunting_limit_cycle.png``
 (phase portraits y-ψ and y-ẏ of the FASTSIM limit cycle), ``out/hunting_step.png`` (too large a
@@ -15,20 +15,19 @@ import argparse
 import math
 import os
 import platform
-import subprocess
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+# the reference wheelset models, next to this script (its folder is on sys.path when it runs)
+from wheelsets.analysis import fit_damped
+from wheelsets.build import build_contact, build_wheelsets, contact_fmu_name
+from wheelsets.linear_model import LinearWheelset
+from wheelsets.systems import (driven_time_constant, lateral_time_constant, make_system,
+                               recommended_step)
 
-HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent.parent
-sys.path.insert(0, str(HERE.parent))
-
-from wheelsets.analysis import fit_damped  # noqa: E402
-from wheelsets.build import contact_fmu_name  # noqa: E402
-from wheelsets.linear_model import LinearWheelset  # noqa: E402
-from wheelsets.systems import lateral_time_constant, make_system, recommended_step  # noqa: E402
+ROOT = Path(__file__).resolve().parent.parent
 
 CONTACTS = [("tangent_track", "linear"), ("full", "linear"), ("full", "johnson_vermeulen"),
             ("full", "fastsim"), ("full", "exact")]
@@ -37,10 +36,9 @@ K_Y, K_PSI = 1.0e6, 2.0e6
 
 
 def build(dist: Path) -> None:
-    cmd = [sys.executable, str(HERE / "build.py"), "--out", str(dist)]
+    build_wheelsets(dist)
     for scene, method in BUILD:
-        cmd += ["--contact", f"{scene}:{method}"]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        build_contact(scene, method, dist)
 
 
 def time_per_second(run, h, budget=6.0):
@@ -68,25 +66,10 @@ def run_case(dist, method, V, T, h, scene="full", record=("wheelset.y", "wheelse
         sim.free()
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=str(ROOT / "out"))
-    ap.add_argument("--dist", default=str(ROOT / "dist" / "wheelsets"))
-    ap.add_argument("--no-build", action="store_true")
-    a = ap.parse_args(argv)
-    out, dist = Path(a.out), Path(a.dist)
-    out.mkdir(parents=True, exist_ok=True)
-    if not a.no_build:
-        build(dist)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    lw = LinearWheelset(k_y=K_Y, k_psi=K_PSI)
+def critical_speed(dist: Path, lw: LinearWheelset) -> tuple[list, float]:
+    """1. Linear contact FMUs at 0.9..1.1 V_c: decay/growth and frequency against the
+    eigenvalues, and V_c where the fitted growth rate crosses zero."""
     Vc = lw.critical_speed()
-    lam_c = lw.hunting_eigenvalue(Vc)
-
-    # 1. Linear FMU: decay / growth, frequency, V_c from the co-simulation ----------------------
     rows = []
     sig = {}
     for fac in (0.9, 0.95, 1.0, 1.05, 1.1):
@@ -104,7 +87,11 @@ def main(argv=None) -> int:
     k = np.where(np.diff(np.sign(sigs)) > 0)[0][0]
     Vc_cosim = Vc * (facs[k] - sigs[k] * (facs[k + 1] - facs[k]) / (sigs[k + 1] - sigs[k]))
 
-    # 2. Klingel ---------------------------------------------------------------------------------
+    return rows, Vc_cosim
+
+
+def klingel(dist: Path) -> tuple[float, float, float, float]:
+    """2. Klingel's kinematic wavelength on very soft springs: (V, h, wavelength, Klingel's)."""
     Vk = 10.0
     hk = recommended_step(lateral_time_constant(Vk))
     sim = make_system(dist / "TangentTrackWheelset.fmu",
@@ -120,7 +107,11 @@ def main(argv=None) -> int:
     wavelength = Vk * float(np.mean(np.diff(cross))) if len(cross) > 1 else float("nan")
     klingel = 2 * math.pi * math.sqrt(0.46 * 0.75 / 0.15)
 
-    # 3. FASTSIM below / above V_c, limit cycle --------------------------------------------------
+    return Vk, hk, wavelength, klingel
+
+
+def fastsim_runs(dist: Path, Vc: float) -> tuple[dict, object, float]:
+    """3. FASTSIM contacts below and above V_c (a limit cycle), and with a flange spring."""
     T_fs = 6.0
     fs = {}
     for fac in (0.9, 1.1):
@@ -134,11 +125,17 @@ def main(argv=None) -> int:
                      flange_gap=8e-3, k_flange=15e6,
                      record=("wheelset.y", "wheelset.psi", "wheelset.vy", "wheelset.F_flange"))
 
-    # 4. Step too large ---------------------------------------------------------------------------
+    return fs, fs_fl, T_fs
+
+
+def step_runs(dist: Path, lw: LinearWheelset, Vc: float) -> tuple[float, float, float, float,
+                                                                  dict]:
+    """4. Communication steps around the stability limits of the coupling: (V, τ, Gauss-Seidel
+    limit, Jacobi limit, runs by label)."""
     Vs = 0.9 * Vc
     tau = lw.tau(Vs)
     lim_gs, lim_j = lw.step_limit(Vs), lw.step_limit(Vs, "jacobi")
-    step_runs = {}
+    runs = {}
     for label, h, scheme in ((f"Gauss-Seidel h = {0.25 * tau * 1e3:.2f} ms (τ/4)", 0.25 * tau, "gauss-seidel"),
                              (f"Jacobi h = {1.3 * lim_j * 1e3:.2f} ms (1.3× Jacobi limit)", 1.3 * lim_j, "jacobi"),
                              (f"Gauss-Seidel h = {1.3 * lim_j * 1e3:.2f} ms (same h)", 1.3 * lim_j, "gauss-seidel"),
@@ -148,12 +145,16 @@ def main(argv=None) -> int:
                           dist / f"{contact_fmu_name('tangent_track', 'linear')}.fmu",
                           wheelset_params(Vs), scheme=scheme)
         try:
-            step_runs[label] = (h, scheme, sim.run(n * h, h, record=["wheelset.y"],
+            runs[label] = (h, scheme, sim.run(n * h, h, record=["wheelset.y"],
                                                    abort_above={"wheelset.y": 0.05}))
         finally:
             sim.free()
 
-    # 5. Wall time per simulated second, per method -----------------------------------------------
+    return Vs, tau, lim_gs, lim_j, runs
+
+
+def wall_times(dist: Path, Vc: float) -> tuple[list, list]:
+    """5. Wall time per simulated second per contact method (tangent track; driven wheelset)."""
     timing = []
     for scene, method in CONTACTS:
         V = 1.1 * Vc
@@ -161,7 +162,6 @@ def main(argv=None) -> int:
         timing.append((scene, method, h) + time_per_second(
             lambda T: run_case(dist, method, V, T, h, scene=scene), h))
     traction_timing = []
-    from wheelsets.systems import driven_time_constant
     Vd = 20.0
     hd = recommended_step(driven_time_constant(Vd))
     t_lim = 0.3 * 100e3 * 0.46
@@ -176,7 +176,16 @@ def main(argv=None) -> int:
                 sim.free()
         traction_timing.append(("traction", method, hd) + time_per_second(drive, hd))
 
-    # Plots ----------------------------------------------------------------------------------------
+    return timing, traction_timing
+
+
+def plot(out: Path, Vc: float, fs: dict, fs_fl, T_fs: float, steps: dict, Vs: float,
+         tau: float) -> None:
+    """hunting_y.png, hunting_psi.png, hunting_limit_cycle.png, hunting_step.png."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     for fac, r in fs.items():
         ax[0].plot(r["time"], r["wheelset.y"] * 1e3, label=f"V = {fac:.1f} V_c = {fac * Vc:.1f} m/s")
@@ -212,14 +221,47 @@ def main(argv=None) -> int:
     fig.tight_layout(); fig.savefig(out / "hunting_limit_cycle.png", dpi=110); plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(9, 4))
-    for label, (h, scheme, r) in step_runs.items():
+    for label, (h, scheme, r) in steps.items():
         ax.semilogy(r["time"], np.maximum(np.abs(r["wheelset.y"]), 1e-9), label=label)
     ax.set_xlabel("t (s)"); ax.set_ylabel("|y| (m)"); ax.grid(alpha=0.3); ax.legend(fontsize=8)
     ax.set_title(f"Communication step at V = {Vs:.1f} m/s (τ = {tau * 1e3:.2f} ms): "
                  "linear contact FMUs")
     fig.tight_layout(); fig.savefig(out / "hunting_step.png", dpi=110); plt.close(fig)
 
-    # Summary --------------------------------------------------------------------------------------
+
+
+@dataclass
+class Results:
+    """What :func:`summary` reports (the outputs of the five experiments)."""
+
+    lw: LinearWheelset
+    Vc: float
+    rows: list
+    Vc_cosim: float
+    Vk: float
+    hk: float
+    wavelength: float
+    klingel: float
+    fs: dict
+    fs_fl: object
+    T_fs: float
+    Vs: float
+    tau: float
+    lim_gs: float
+    lim_j: float
+    steps: dict
+    timing: list
+    traction_timing: list
+
+
+def summary(res: Results) -> str:
+    """The one-page summary (hunting_summary.md)."""
+    lw, Vc, rows, Vc_cosim = res.lw, res.Vc, res.rows, res.Vc_cosim
+    lam_c = lw.hunting_eigenvalue(Vc)
+    Vk, hk, wavelength, klingel_wl = res.Vk, res.hk, res.wavelength, res.klingel
+    fs, fs_fl, T_fs = res.fs, res.fs_fl, res.T_fs
+    Vs, tau, lim_gs, lim_j = res.Vs, res.tau, res.lim_gs, res.lim_j
+    timing, traction_timing = res.timing, res.traction_timing
     amp = {fac: float(np.abs(r["wheelset.y"][r["time"] > T_fs - 1.0]).max()) for fac, r in fs.items()}
     amp_fl = float(np.abs(fs_fl["wheelset.y"][fs_fl["time"] > T_fs - 1.0]).max())
     sat = float(np.hypot(fs[1.1]["contact_L.Fx"], fs[1.1]["contact_L.Fy"]).max() / (0.3 * 50e3))
@@ -244,8 +286,8 @@ def main(argv=None) -> int:
                  f"{fc:.3f} | {err * 100:+.2f} % |")
     L.append("\n## Kinematic oscillation (Klingel)\n")
     L.append(f"V = {Vk} m/s, k_y = k_ψ = 1e3 (very soft), h = {hk * 1e3:.2f} ms: wavelength "
-             f"{wavelength:.3f} m vs Klingel 2π√(r0 b0/λ) = {klingel:.3f} m "
-             f"(**error {(wavelength - klingel) / klingel * 100:+.2f} %**).\n")
+             f"{wavelength:.3f} m vs Klingel 2π√(r0 b0/λ) = {klingel_wl:.3f} m "
+             f"(**error {(wavelength - klingel_wl) / klingel_wl * 100:+.2f} %**).\n")
     L.append("## FASTSIM contact FMUs (`full` scene): below and above V_c\n")
     L.append(f"- 0.9 V_c: decays (max |y| over the last second {amp[0.9] * 1e6:.2f} µm, from y0 = 1 mm).")
     L.append(f"- 1.1 V_c: grows into a limit cycle bounded by creep saturation alone: amplitude "
@@ -258,9 +300,9 @@ def main(argv=None) -> int:
              f"coupling is unstable above h = {lim_gs * 1e3:.2f} ms (Gauss-Seidel, ≈ 2τ) and "
              f"h = {lim_j * 1e3:.2f} ms (Jacobi, as `fmpy.ssp.simulate_ssp`, ≈ τ). Runs "
              "(`hunting_step.png`):\n")
-    for label, (h, scheme, r) in step_runs.items():
-        fate = (f"diverged (|y| > 5 cm at t = {r['time'][-1]:.3f} s)" if r.aborted else
-                f"|y(0.6 s)| = {abs(r['wheelset.y'][-1]) * 1e3:.3f} mm")
+    for label, (h, scheme, run) in res.steps.items():
+        fate = (f"diverged (|y| > 5 cm at t = {run['time'][-1]:.3f} s)" if run.aborted else
+                f"|y(0.6 s)| = {abs(run['wheelset.y'][-1]) * 1e3:.3f} mm")
         L.append(f"- {label}: {fate}")
     L.append("\nDefault: h = the largest round step ≤ τ/4 (`systems.recommended_step`); τ ∝ V, so "
              "low speeds need small steps.\n")
@@ -274,8 +316,31 @@ def main(argv=None) -> int:
                      f"{per_s * h * 1e3:.3g} | {steps} |")
     L.append(f"\n(machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
              "shared with other jobs: timings are indicative.)")
-    (out / "hunting_summary.md").write_text("\n".join(L) + "\n", encoding="utf-8")
-    print((out / "hunting_summary.md").read_text())
+    return "\n".join(L) + "\n"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default=str(ROOT / "out"))
+    ap.add_argument("--dist", default=str(ROOT / "dist" / "wheelsets"))
+    ap.add_argument("--no-build", action="store_true")
+    a = ap.parse_args(argv)
+    out, dist = Path(a.out), Path(a.dist)
+    out.mkdir(parents=True, exist_ok=True)
+    if not a.no_build:
+        build(dist)
+    lw = LinearWheelset(k_y=K_Y, k_psi=K_PSI)
+    Vc = lw.critical_speed()
+    rows, Vc_cosim = critical_speed(dist, lw)
+    Vk, hk, wavelength, klingel_wavelength = klingel(dist)
+    fs, fs_fl, T_fs = fastsim_runs(dist, Vc)
+    Vs, tau, lim_gs, lim_j, steps = step_runs(dist, lw, Vc)
+    timing, traction_timing = wall_times(dist, Vc)
+    plot(out, Vc, fs, fs_fl, T_fs, steps, Vs, tau)
+    text = summary(Results(lw, Vc, rows, Vc_cosim, Vk, hk, wavelength, klingel_wavelength, fs,
+                           fs_fl, T_fs, Vs, tau, lim_gs, lim_j, steps, timing, traction_timing))
+    (out / "hunting_summary.md").write_text(text, encoding="utf-8")
+    print(text)
     return 0
 
 
