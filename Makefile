@@ -1,19 +1,24 @@
 # Two commands do all set-up on a fresh machine with only python3:
 #   make run   - create .venv, install, run the main job (see README)
 #   make test  - create .venv, install, run the tests
+# Each target installs what it needs (pyproject extras): run and bench the FMU build (fmu), fmpy
+# (host) and the reports (bench); test those and pytest, libcosimpy (test).
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
-STAMP  := $(VENV)/.installed
+EXTRAS_run  := fmu,host,bench
+EXTRAS_test := test
 
 .PHONY: run test bench clean
 
-$(STAMP): pyproject.toml
+$(PY):
 	$(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install -e '.[test]'
-	touch $(STAMP)
 
-run: $(STAMP)
+$(VENV)/.installed-%: pyproject.toml | $(PY)
+	$(PY) -m pip install -e '.[$(EXTRAS_$*)]'
+	touch $@
+
+run: $(VENV)/.installed-run
 	mkdir -p out
 	$(PY) examples/creep_curves.py
 	$(PY) examples/fastsim_traction_map.py
@@ -22,10 +27,10 @@ run: $(STAMP)
 	$(PY) examples/run_hunting.py
 	$(PY) -m contact_core.bench --out out
 
-test: $(STAMP)
+test: $(VENV)/.installed-test
 	$(PY) -m pytest -q
 
-bench: $(STAMP)
+bench: $(VENV)/.installed-run
 	$(PY) examples/bench_closed_form.py
 	$(PY) examples/bench_fastsim.py
 	$(PY) examples/bench_exact.py

@@ -462,3 +462,17 @@ def test_secant_warm_start_sequence(wheel_rail_case):
     assert "prev_px" in record
     again = cc.METHODS["exact"].warm_state_from_record(record)
     np.testing.assert_array_equal(again.previous[0], state.previous[0])
+
+
+def test_clear_caches_empties_every_cache():
+    """contact_core.clear_caches: the public way to start cold (benchmarks, memory); the solver
+    gives the same result afterwards."""
+    from contact_core.exact import contact_grid, kernel_tables
+    a, b = _patch(1.0)
+    kw = dict(xi=1e-3, eta=2e-4, phi=0.1, N=1e5, mu=0.3, a=a, b=b, G=G, nu=0.28, mx=12, my=12)
+    before = cc.solve("exact", **kw)
+    assert contact_grid.cache_info().currsize > 0 and kernel_tables.cache_info().currsize > 0
+    cc.clear_caches()
+    assert contact_grid.cache_info().currsize == 0 and kernel_tables.cache_info().currsize == 0
+    after = cc.solve("exact", **kw)
+    assert (after.Fx, after.Fy, after.Mz) == (before.Fx, before.Fy, before.Mz)

@@ -51,6 +51,8 @@ def test_scene_fmu_exposes_exactly_its_variables(fmus, scene):
     params = by["parameter"]
     assert {"method", "invalid_input", "E", "nu", "R_wheel", "R_wheel_profile",
             "R_rail_profile"} <= params
+    # what the FMU cannot use is not exposed: traction fields, the exact solver's switches
+    assert not {"fields", "half", "predictor"} & params
     eff = cc.load_scene(scene).effects
     assert ("mu" in params) == (eff.saturation and not eff.variable_friction)
     # grid sizes and tolerances: every numeric option of every registered method

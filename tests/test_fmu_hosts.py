@@ -17,6 +17,7 @@ from fmpy import read_model_description, simulate_fmu
 
 import contact_core as cc
 from wheel_rail_fmu.build import build
+from wheel_rail_fmu.host import run_in_libcosim
 
 ROOT = Path(__file__).resolve().parents[1]
 GEOM = (0.46, float("inf"), 0.3)
@@ -60,47 +61,13 @@ def test_c_host_without_python_setup(fmus, tmp_path):
     assert lines[6:] == ["init 3", "freed"]
 
 
-def _libcosim_run(paths: list[Path], inputs: dict[str, float], steps: int = 5,
-                  initial: bool = False):
-    """Run the FMUs ``paths`` in one libcosim execution with constant ``inputs`` (set as initial
-    values with ``initial``, else overridden at every step); their last Fx, Fy, Mz."""
-    from libcosimpy.CosimExecution import CosimExecution
-    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
-    from libcosimpy.CosimManipulator import CosimManipulator
-    from libcosimpy.CosimObserver import CosimObserver
-    from libcosimpy.CosimSlave import CosimLocalSlave
-
-    log_output_level(CosimLogLevel.ERROR)
-    execution = CosimExecution.from_step_size(step_size=int(1e6))  # 1 ms
-    manipulator = CosimManipulator.create_override()
-    observer = CosimObserver.create_last_value()
-    execution.add_manipulator(manipulator=manipulator)
-    execution.add_observer(observer=observer)
-    slaves = []
-    for k, path in enumerate(paths):
-        index = execution.add_local_slave(CosimLocalSlave(fmu_path=str(path),
-                                                          instance_name=f"contact{k}"))
-        vr = {v.name: v.valueReference for v in read_model_description(str(path)).modelVariables}
-        names = [n for n in inputs if n in vr]
-        if initial:
-            for n in names:
-                execution.real_initial_value(index, vr[n], inputs[n])
-        else:
-            manipulator.slave_real_values(index, [vr[n] for n in names],
-                                          [inputs[n] for n in names])
-        slaves.append((index, vr))
-    assert execution.simulate_until(target_time=int(steps * 1e6))
-    return [dict(zip(("Fx", "Fy", "Mz"), observer.last_real_values(
-        i, [vr[n] for n in ("Fx", "Fy", "Mz") if n in vr]))) for i, vr in slaves]
-
-
 def test_libcosim_runs_different_contact_fmus(fmus, other_version, tmp_path):
     """A third-party FMI host with a thread pool: a traction FMU (Johnson–Vermeulen), a curving
     FMU (FASTSIM) and a traction FMU built from another version of contact_core (linear theory
     with Fx doubled, see conftest) in one execution, each equal to its own law; then two of them
     again in a second execution."""
     inputs = {"xi": 1e-3, "eta": -4e-4, "phi": 0.2, "N": 1e5}
-    traction, curving, v2 = _libcosim_run([fmus["traction"], fmus["curving"], other_version],
+    traction, curving, v2 = run_in_libcosim([fmus["traction"], fmus["curving"], other_version],
                                           inputs)
     r1 = solve("johnson_vermeulen", "traction", xi=1e-3)
     r2 = solve("fastsim", "curving", **inputs)
@@ -110,18 +77,17 @@ def test_libcosim_runs_different_contact_fmus(fmus, other_version, tmp_path):
                                rtol=1e-9, atol=0)
     np.testing.assert_allclose([v2["Fx"]], [2.0 * r3.Fx], rtol=1e-9, atol=0)
     # and one execution after another in the same process, in the other order
-    v2, traction = _libcosim_run([other_version, fmus["traction"]], inputs)
+    v2, traction = run_in_libcosim([other_version, fmus["traction"]], inputs)
     assert (v2["Fx"], traction["Fx"]) == pytest.approx((2.0 * r3.Fx, r1.Fx), rel=1e-9)
 
 
 def test_libcosim_gets_the_message_before_the_error(fmus):
     """libcosim ends its host on any non-OK status at initialisation; the reason must have been
     logged by then (a separate process, which libcosim terminates)."""
-    code = (
-        "import runpy, sys\n"
-        "run = runpy.run_path(sys.argv[2])['_libcosim_run']\n"
-        "run([sys.argv[1]], {'xi': 1e-3, 'N': 1e5, 'E': -1.0}, initial=True)\n")
-    out = subprocess.run([sys.executable, "-c", code, str(fmus["traction"]), __file__],
+    code = ("import sys\n"
+            "from wheel_rail_fmu.host import run_in_libcosim\n"
+            "run_in_libcosim([sys.argv[1]], {'xi': 1e-3, 'N': 1e5, 'E': -1.0}, initial=True)\n")
+    out = subprocess.run([sys.executable, "-c", code, str(fmus["traction"])],
                          capture_output=True, text=True, timeout=300)
     text = out.stdout + out.stderr
     assert out.returncode != 0

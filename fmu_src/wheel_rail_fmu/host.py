@@ -144,3 +144,42 @@ class FmuInstance:
 
     def __exit__(self, *exc: Any) -> None:
         self.free()
+
+
+def run_in_libcosim(paths: list[str | Path], inputs: Mapping[str, float], steps: int = 5,
+                    initial: bool = False) -> list[dict[str, float]]:
+    """Run the contact FMUs ``paths`` in one libcosim execution (DNV's co-simulation engine,
+    through libcosimpy; 1 ms steps) with constant ``inputs`` (set as initial values with
+    ``initial``, else overridden at every step); their last Fx, Fy, Mz (those they have)."""
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimManipulator import CosimManipulator
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    log_output_level(CosimLogLevel.ERROR)
+    execution = CosimExecution.from_step_size(step_size=int(1e6))  # 1 ms
+    manipulator = CosimManipulator.create_override()
+    observer = CosimObserver.create_last_value()
+    execution.add_manipulator(manipulator=manipulator)
+    execution.add_observer(observer=observer)
+    slaves = []
+    for k, path in enumerate(paths):
+        index = execution.add_local_slave(CosimLocalSlave(fmu_path=str(path),
+                                                          instance_name=f"contact{k}"))
+        vr = {v.name: v.valueReference for v in read_model_description(str(path)).modelVariables}
+        names = [n for n in inputs if n in vr]
+        if initial:
+            for n in names:
+                execution.real_initial_value(index, vr[n], inputs[n])
+        else:
+            manipulator.slave_real_values(index, [vr[n] for n in names],
+                                          [inputs[n] for n in names])
+        slaves.append((index, vr))
+    if not execution.simulate_until(target_time=int(steps * 1e6)):
+        raise RuntimeError("libcosim stopped the run (an FMU returned a status other than OK)")
+    out = []
+    for i, vr in slaves:
+        names = [n for n in ("Fx", "Fy", "Mz") if n in vr]
+        out.append(dict(zip(names, observer.last_real_values(i, [vr[n] for n in names]))))
+    return out
