@@ -113,17 +113,15 @@ def resolve_parameters(scene: contact_core.Scene, method: str | None,
     if method not in contact_core.METHODS:
         raise ValueError(f"method={method!r} is unknown: allowed {list(contact_core.METHODS)}")
     eff = scene.effects
-    if "mu" in parameters and "mu" not in {v.name for v in variables_for(
-            eff.names(), method, contact_core.METHODS) if v.causality == "parameter"}:
+    specs = {v.name: v for v in variables_for(eff.names(), method, contact_core.METHODS)}
+    allowed = sorted(n for n, v in specs.items() if v.causality == "parameter")
+    if "mu" in parameters and "mu" not in allowed:
         why = ("an input (effect 'variable_friction'): the host sets it at every step"
                if eff.variable_friction else "not used (the scene has no 'saturation' effect)")
         raise ValueError(f"mu is {why} in scene {scene.name!r}; a scene with 'saturation' and "
                          "without 'variable_friction' (e.g. traction) has mu as a parameter")
-    specs = {v.name: v for v in variables_for(eff.names(), method, contact_core.METHODS)}
-    unknown = sorted(set(parameters) - {n for n, v in specs.items()
-                                        if v.causality == "parameter"})
+    unknown = sorted(set(parameters) - set(allowed))
     if unknown:
-        allowed = sorted(n for n, v in specs.items() if v.causality == "parameter")
         raise ValueError(f"unknown parameter(s) {unknown} in scene {scene.name!r}: allowed "
                          f"{allowed}")
     typed = {name: _coerce(specs[name], value) for name, value in parameters.items()}
