@@ -13,6 +13,7 @@ from typing import Any, ClassVar, Sequence
 
 import numpy as np
 
+from .coefficients import A_OVER_B_RANGE
 from .effects import ALL_EFFECTS, Effects
 from .result import ContactResult, make_result
 from .variables import out_of_range
@@ -98,8 +99,19 @@ def check_inputs(xi: float, eta: float, phi: float, N: float, mu: float,
         raise _bad("b", b, "0 < b < inf (lateral semi-axis, m)")
     if not (isfinite(G) and G > 0.0):
         raise _bad("G", G, "0 < G < inf (shear modulus, Pa)")
+    if not (0.005 <= a / b <= 200.0):  # coefficients.A_OVER_B_RANGE, literal for speed
+        raise ValueError(f"a={a!r}, b={b!r}: a/b={a / b!r} is out of range: allowed "
+                         f"{A_OVER_B_RANGE[0]} <= a/b <= {A_OVER_B_RANGE[1]} (Kalker's "
+                         "coefficients and their asymptotes)")
     if not (0.0 <= nu < 0.5):
         raise out_of_range("nu", nu)
+
+
+# Similarity units (ContactMethod._similar).
+_P0 = 3.0 / (2.0 * math.pi)         # p0 = _P0 N/(ab)
+_LOG_P0 = math.log(_P0)
+_N_CANON = 2.0 * math.pi / 3.0      # the load of the canonical problem: p0 = 1 with a b = 1
+_LOG_S_MAX, _LOG_S_MIN = math.log(1e100), math.log(1e-100)
 
 
 class ContactMethod(ABC):
@@ -113,6 +125,9 @@ class ContactMethod(ABC):
     name: ClassVar[str] = ""
     code: ClassVar[int] = 0
     default_options: ClassVar[dict[str, Any]] = {}
+    #: False for a method that never saturates (linear theory): its forces are linear in the
+    #: creepages whatever the effects.
+    saturates: ClassVar[bool] = True
 
     def __init__(self, effects: Effects = ALL_EFFECTS, **options: Any) -> None:
         unknown = sorted(set(options) - set(self.default_options))
@@ -121,6 +136,7 @@ class ContactMethod(ABC):
                              f"allowed: {sorted(self.default_options)}")
         self.effects = effects
         self.options = {**self.default_options, **options}
+        self._saturates = effects.saturation and self.saturates
         self._check_options()
 
     def _check_options(self) -> None:
@@ -148,7 +164,84 @@ class ContactMethod(ABC):
         if N == 0.0 or (mu == 0.0 and eff.saturation):
             # Wheel lifted (no load) or frictionless contact: no tangential force.
             return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
-        return self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+        # Moderate inputs (every product and square of the methods' SI arithmetic far inside
+        # the float range): computed directly. Anything else: in Hertzian similarity units.
+        # Literal bounds (semi-axes 1e-8..1e3 m, G 1e-3..1e15 Pa, N and μN 1e-12..1e12 N; the
+        # creepage bound uses max(a, b) >= √(ab)): checked at every call, so kept cheap.
+        if (1e-8 <= a <= 1e3 and 1e-8 <= b <= 1e3 and 1e-3 <= G <= 1e15
+                and 1e-12 <= N <= 1e12):
+            mun = mu * N if self._saturates else N
+            if 1e-12 <= mun <= 1e12:
+                s = ((xi if xi >= 0.0 else -xi) + (eta if eta >= 0.0 else -eta)
+                     + (phi if phi >= 0.0 else -phi) * (a if a > b else b)) * (G * a * b / mun)
+                if s <= 1e6 and (s >= 1e-60 or s == 0.0):
+                    return self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+        return self._similar(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+
+    def _similar(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
+                 b: float, G: float, nu: float, warm_start: Any) -> ContactResult:
+        """The state solved in the units of Hertzian similarity, for every finite input.
+
+        F/(μN) and Mz/(μN c) (without saturation F/N and Mz/(N c)) depend only on a/b, ν and the
+        normalised creepages σ = (ξ, η, φ c) G/(μ p0) (G/p0), c = √(ab), p0 = 3N/(2πab) (Kalker
+        1967 ch. 2; Kalker 1979 sec. 2: the Hertzian problem scales with p0 and the semi-axes).
+        The method solves the canonical problem with these σ: a = a/b, b = 1, G = 1, μ = 1,
+        p0 = 1 (N = 2π(a/b)/3), and the result is scaled back. σ is formed in logarithms
+        (no overflow or underflow on the way) and brought into [1e-100, 1e100], its direction
+        kept: beyond |σ| = 1e100 the adhesion zone is below 1e-100 of the contact (full sliding
+        in double precision), so a saturating solve is the same at 1e100; below 1e-100 no
+        element slips, and without saturation always, the forces are linear in σ, so they are
+        scaled back by the same factor. A result beyond the float range (an unsaturated force,
+        or μN itself) is a ValueError naming the inputs.
+        """
+        sat = self._saturates
+        log_c = 0.5 * (math.log(a) + math.log(b))
+        # log of G/(μ p0)
+        log_k = math.log(G) + math.log(a) + math.log(b) - _LOG_P0 - math.log(N) \
+            - (math.log(mu) if sat else 0.0)
+        logs = [math.log(abs(v)) + extra + log_k if v else -math.inf
+                for v, extra in ((xi, 0.0), (eta, 0.0), (phi, log_c))]
+        top = max(logs)
+        shift = 0.0
+        if top > _LOG_S_MAX:
+            shift = _LOG_S_MAX - top
+        elif -math.inf < top < _LOG_S_MIN:
+            shift = _LOG_S_MIN - top
+        sig = [math.copysign(math.exp(lg + shift), v) if v else 0.0
+               for lg, v in zip(logs, (xi, eta, phi))]
+        # canonical contact a = a/b, b = 1 (the same a/b to the last bit), p0 = 1: N = 2π(a/b)/3
+        r_ab = a / b
+        c_canon = math.sqrt(r_ab)
+        n_canon = _N_CANON * r_ab
+        r = self._step_impl(sig[0], sig[1], sig[2] / c_canon, n_canon, 1.0, r_ab, 1.0, 1.0, nu,
+                            warm_start)
+        # back to SI: forces per (μ)N, moment per (μ)N c; linear regime: undo the scale-up
+        f_scale = (mu * N if sat else N) / n_canon
+        try:
+            down = math.exp(-shift) if (shift > 0.0 or not sat) else 1.0
+            m_scale = f_scale * math.exp(log_c) / c_canon
+            out = [v * down * sc for v, sc in ((r.Fx, f_scale), (r.Fy, f_scale), (r.Mz, m_scale))]
+        except OverflowError:
+            out = [math.inf]
+        if sat and math.isfinite(f_scale):
+            # Rounding guard for tiny loads (subnormal μN has few significant digits): |F| <= μN.
+            bound = mu * N
+            while math.hypot(out[0], out[1]) > bound:
+                out[0] = math.nextafter(out[0], 0.0)
+                out[1] = math.nextafter(out[1], 0.0)
+        if not (math.isfinite(f_scale) and all(math.isfinite(v) for v in out)):
+            if sat:
+                raise ValueError(f"mu={mu!r}, N={N!r}, a={a!r}, b={b!r}: the force bound mu*N "
+                                 "or the spin moment's scale mu*N*sqrt(ab) overflows: allowed "
+                                 "inputs for which these are below 1.8e308")
+            why = ("linear theory does not saturate" if not self.saturates else
+                   "with the effect 'saturation' it is bounded by mu*N")
+            raise ValueError(f"xi={xi!r}, eta={eta!r}, phi={phi!r}: the unsaturated force "
+                             "overflows: allowed creepages whose force is below 1.8e308 N "
+                             f"({why})")
+        d = r.__dict__.copy()
+        d.update(Fx=out[0], Fy=out[1], Mz=out[2])
+        return ContactResult(**d)
 
     @abstractmethod
     def _step_impl(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,

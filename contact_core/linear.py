@@ -24,6 +24,7 @@ class LinearTheory(ContactMethod):
     name = "linear"
     code = 1
     default_options: dict = {}
+    saturates = False
 
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         c11, c22, c23, c33 = creep_coefficients(a / b, nu)

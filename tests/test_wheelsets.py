@@ -369,3 +369,63 @@ def test_curving_tight_radius_fastsim_saturates(fmus):
     assert F.max() <= MU * N_WHEEL * (1 + 1e-9)
     assert F.max() >= 0.9 * MU * N_WHEEL
     assert r["wheelset.y"][-1] < -8e-3 and r["wheelset.F_flange"][-1] > 0
+
+
+# Start from rest, brake to standstill --------------------------------------------------------
+M_VEHICLE = 1000.0        # kg moved by the driven wheelset
+H_LOW = 2e-5              # communication step of the low-speed runs
+
+
+def run_start_stop(fmus, method, h=H_LOW, v_reg_factor=1.0, contact_params=None,
+                   t_drive=0.05, T=0.35):
+    """From rest: drive torque 0.6 μ W r0 until ``t_drive``, then a brake torque μ W r0 (at the
+    adhesion limit) until T. V_reg from the communication step (systems.regularisation_speed)
+    times ``v_reg_factor``."""
+    from wheelsets.systems import regularisation_speed
+    v_reg = v_reg_factor * regularisation_speed(h, I_y=IY, r0=R0, m_vehicle=M_VEHICLE)
+    drive = 0.6 * MU * W * R0
+    sim = make_system(fmus["DrivenWheelsetFMU"], contact(fmus, "traction", method),
+                      {"V": 0.0, "I_y": IY, "m_vehicle": M_VEHICLE, "V_reg": v_reg},
+                      contact_params=contact_params,
+                      inputs={"wheelset.torque": lambda t: drive if t < t_drive else 0.0,
+                              "wheelset.brake": lambda t: 0.0 if t < t_drive else drive / 0.6})
+    try:
+        return sim.run(T, h, record=["wheelset.speed", "wheelset.omega", "wheelset.xi",
+                                     "contact_L.Fx", "contact_R.Fx"])
+    finally:
+        sim.free()
+
+
+def chatter(F, threshold):
+    """Steps where the force changes direction from one step to the next by more than
+    ``threshold`` both times (a force oscillating at the communication step)."""
+    d = np.diff(F)
+    big = np.abs(d) > threshold
+    return int(np.sum((d[1:] * d[:-1] < 0) & big[1:] & big[:-1]))
+
+
+@pytest.mark.parametrize("method, options", [("fastsim", None), ("exact", {"mx": 12, "my": 12})])
+def test_start_from_rest_and_brake_to_standstill(fmus, method, options):
+    """V = 0 at t = 0: the creepage is regularised below V_reg (xi = (V - Ω r0)/max(|V|, V_reg),
+    V_reg from the step, see wheelset_dynamics.DrivenWheelset). The wheelset pulls away, then
+    brakes to standstill: finite, bounded forces, forward then backward, no oscillation of the
+    creep force at the communication step, speed down to rest and never reversed."""
+    r = run_start_stop(fmus, method, contact_params=options)
+    t, V, om = r["time"], r["wheelset.speed"], r["wheelset.omega"]
+    F = r["contact_L.Fx"]
+    assert np.isfinite(np.array([V, om, F, r["wheelset.xi"]])).all()
+    assert np.abs(F).max() <= MU * N_WHEEL * (1 + 1e-9)
+    drive, brake = t <= 0.05, t > 0.06
+    # forces lag one step (zero-order hold): zero at the first two samples, forward after
+    assert V[0] == 0.0 and np.all(np.diff(V[drive]) >= 0) and F[drive][2:].min() > 0
+    assert np.all(np.diff(V[brake]) <= 1e-12) and F[brake].max() < 0
+    assert V.min() >= -1e-9                                    # never rolls backwards
+    assert V[-1] < 0.02 * V.max() and abs(om[-1] * R0) < 0.02 * V.max()
+    assert chatter(F, 1e-4 * MU * N_WHEEL) == 0
+
+
+def test_too_small_regularisation_chatters(fmus):
+    """The regularisation speed is what keeps the coupling calm: a fifth of it, at the same
+    step, makes the creep force flip at every step near standstill."""
+    r = run_start_stop(fmus, "fastsim", v_reg_factor=0.2)
+    assert chatter(r["contact_L.Fx"], 1e-4 * MU * N_WHEEL) > 1000

@@ -1,4 +1,5 @@
 """``python -m contact_core.bench [--full] [--jobs N] [--out DIR] [--docs DIR] [--no-fmu]``
+and ``python -m contact_core.bench hard [--cases N] [--exact-cases M]`` (:mod:`.hard`).
 
 What accuracy costs in time: every method and setting against a converged exact reference, with
 per-call times in-process and through the FMU. Writes ``OUT/accuracy_vs_time.md`` and ``.png``
@@ -16,6 +17,10 @@ from .runner import run
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["hard"]:
+        from .hard import main as hard
+        return hard(argv[1:])
     p = argparse.ArgumentParser(prog="python -m contact_core.bench",
                                 description=__doc__.split("\n\n")[1].strip())
     p.add_argument("--full", action="store_true", help="the full sweep (default: the short form)")

@@ -1,5 +1,5 @@
-"""Driven wheelset FMU: rotation about the axle under a drive torque, constant forward speed
-(pythonfmu ``Fmi2Slave``).
+"""Driven wheelset FMU: rotation about the axle under drive and brake torques, at a constant
+forward speed or moving a mass (pythonfmu ``Fmi2Slave``).
 
 The classical traction / adhesion model (Iwnicki (ed.), *Handbook of Railway Vehicle Dynamics*
 (2006), on adhesion and traction; Knothe & Stichel, *Rail Vehicle Dynamics* (2017), on
@@ -14,10 +14,15 @@ they roll (Ω r0 > V), ξ < 0 and Fx > 0 (forward, rail on wheel). Beyond the ad
 T > μ W r0 the creep forces cannot balance the torque and the wheelset spins up: ξ decreases
 without bound (ξ -> -inf as Ω grows).
 
+With ``m_vehicle`` > 0 the forward speed is a state too, ``m dV/dt = Fx_L + Fx_R``: the wheelset
+can start from rest (V = 0) and brake to standstill, the creepage regularised at low speed as
+``wheelset_dynamics.DrivenWheelset`` says (V_reg).
+
 Parameters (SI; defaults): V = 20 m/s, r0 = 0.46 m, I_y = 120 kg m² (wheelset with its share of
-the drive), axle load W = 100 kN, initial creepage xi0 = 0 (free rolling). Input: ``torque``
-(N m), held over the communication step (the FMU uses its value at the step's start; a master
-that wants mid-step accuracy for a ramp sets the mid-step value).
+the drive), axle load W = 100 kN, m_vehicle = 0 (V constant), V_reg = 0.5 m/s, initial creepage
+xi0 = 0 (free rolling). Inputs: ``torque`` (N m), held over the communication step (the FMU uses
+its value at the step's start; a master that wants mid-step accuracy for a ramp sets the
+mid-step value), and ``brake`` (N m, the magnitude of a brake torque opposing the rotation).
 """
 from __future__ import annotations
 
@@ -28,14 +33,18 @@ from .wheelset_fmu_common import WheelsetSlaveBase
 class DrivenWheelsetFMU(WheelsetSlaveBase):
     """Wheelset spinning about its axle under a drive torque (see module docstring)."""
 
-    description = ("Reference driven wheelset on straight track: rotation about the axle under a "
-                   "drive torque, constant forward speed; Iwnicki 2006 (adhesion)")
+    description = ("Reference driven wheelset on straight track: rotation about the axle under "
+                   "drive and brake torques, constant speed or a moved mass; Iwnicki 2006 "
+                   "(adhesion)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self._declare(param_fields(DrivenParams) + [("xi0", 0.0, "initial creepage, 1")],
-                      extra_inputs=(("torque", "drive torque on the axle, N m"),),
+                      extra_inputs=(("torque", "drive torque on the axle, N m"),
+                                    ("brake", "brake torque magnitude (opposes the rotation), "
+                                              "N m")),
                       extra_outputs=(("omega", "angular speed about the axle, rad/s"),
+                                     ("speed", "forward speed V, m/s"),
                                      ("xi", "longitudinal creepage (both wheels), 1"),
                                      ("slip_velocity", "V - Omega r0, m/s"),
                                      ("adhesion", "(Fx_L + Fx_R) / axle load: used adhesion, 1")))
@@ -51,11 +60,12 @@ class DrivenWheelsetFMU(WheelsetSlaveBase):
         self._set_contact_outputs(c)
         self.omega = m.omega
         self.xi = c["xi_L"]
-        self.slip_velocity = m.p.V - m.omega * m.p.r0
+        self.speed = m.V
+        self.slip_velocity = m.V - m.omega * m.p.r0
         load = m.p.axle_load
         self.adhesion = (self.Fx_L + self.Fx_R) / load if load > 0 else 0.0
 
     def do_step(self, current_time, step_size):
-        self._model.step(step_size, self.torque, self.Fx_L, self.Fx_R)
+        self._model.step(step_size, self.torque, self.Fx_L, self.Fx_R, self.brake)
         self._update_outputs()
         return True

@@ -81,6 +81,15 @@ def driven_time_constant(V: float, I_y: float = 120.0, r0: float = 0.46, **conta
     return I_y * V / (2 * f["f11"] * r0 ** 2)
 
 
+def regularisation_speed(h: float, I_y: float = 120.0, r0: float = 0.46,
+                         m_vehicle: float = 0.0, **contact) -> float:
+    """The smallest creepage regularisation speed V_reg (``DrivenWheelset``) for which the
+    Gauss-Seidel coupling at step h is free of chatter at low speed: the slip-velocity time
+    constant V_reg / (2 f11 (r0²/I_y + 1/m)) at least h (monotone up to h = τ, see master.py)."""
+    f = creep_coefficients_f(r0=r0, **contact)
+    return h * 2.0 * f["f11"] * (r0 ** 2 / I_y + (1.0 / m_vehicle if m_vehicle > 0 else 0.0))
+
+
 def recommended_step(tau: float, fraction: float = 0.25) -> float:
     """The largest "round" step (1, 2 or 5 times a power of ten) not above ``fraction`` * τ:
     about a quarter of the creep time constant by default (see the module docstring)."""

@@ -244,43 +244,71 @@ class LateralWheelset:
 class DrivenParams:
     """Parameters of the driven wheelset (SI units)."""
 
-    V: float = _p(20.0, "forward speed, m/s (constant: the vehicle is much heavier)")
+    V: float = _p(20.0, "forward speed, m/s: constant when m_vehicle = 0, else the initial speed "
+                  "(0: start from rest)")
     r0: float = _p(0.46, "rolling radius, m (cylindrical wheels: λ = 0)")
     I_y: float = _p(120.0, "polar moment of inertia of wheelset + drive about the axle, kg m²")
     axle_load: float = _p(100e3, "vertical axle load W, N (each wheel carries W/2)")
+    m_vehicle: float = _p(0.0, "mass moved by the wheelset, kg (0: V held constant, the vehicle "
+                          "much heavier)")
+    V_reg: float = _p(0.5, "creepage regularisation speed, m/s: xi = (V - Omega r0) / "
+                      "max(|V|, V_reg)")
 
     def check(self) -> None:
-        for name in ("V", "r0", "I_y"):
+        for name in ("r0", "I_y", "V_reg"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0.0):
                 raise ValueError(f"{name}={v!r} is out of range: allowed 0 < {name} < inf")
-        if not (math.isfinite(self.axle_load) and self.axle_load >= 0.0):
-            raise ValueError(f"axle_load={self.axle_load!r} is out of range: allowed >= 0")
+        if not (math.isfinite(self.V) and (self.V > 0.0 or self.m_vehicle > 0.0 and self.V >= 0.0)):
+            raise ValueError(f"V={self.V!r} is out of range: allowed 0 < V < inf (0 <= V with "
+                             "m_vehicle > 0)")
+        for name in ("axle_load", "m_vehicle"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0.0):
+                raise ValueError(f"{name}={v!r} is out of range: allowed 0 <= {name} < inf")
 
 
 class DrivenWheelset:
-    """Wheelset spinning about its axle under a drive torque, at constant forward speed."""
+    """Wheelset spinning about its axle under drive and brake torques; with ``m_vehicle`` > 0 it
+    also moves a mass forward (start from rest, braking to standstill).
+
+    Creepage at low speed (the regularisation multibody codes use): ξ = (V - Ω r0) / max(|V|,
+    V_reg). Above V_reg this is the textbook ξ; below, the creep force acts as a viscous damper on
+    the slip velocity V - Ω r0, with the time constant τ = max(|V|, V_reg) / (2 f11 (r0²/I_y +
+    1/m_vehicle)) (f11 = G c² C11 per wheel, Kalker 1979 eq 17), so that an explicit coupling
+    stays free of chatter for a communication step h <= τ at V_reg
+    (``systems.regularisation_speed``). The brake torque is regularised Coulomb friction on the
+    axle: -T_b Ω / max(|Ω|, V_reg/r0), zero at standstill.
+    """
 
     def __init__(self, params: DrivenParams, omega: float | None = None, t0: float = 0.0):
         params.check()
         self.p = params
+        self.V = params.V
         self.omega = params.V / params.r0 if omega is None else omega
         self.t = t0
 
     def creepages(self) -> dict[str, float]:
         p = self.p
-        xi = (p.V - self.omega * p.r0) / p.V
+        xi = (self.V - self.omega * p.r0) / max(abs(self.V), p.V_reg)
         n = 0.5 * p.axle_load
         return {"xi_L": xi, "eta_L": 0.0, "phi_L": 0.0, "N_L": n,
                 "xi_R": xi, "eta_R": 0.0, "phi_R": 0.0, "N_R": n}
 
-    def step(self, h: float, torque_mid: float, Fx_L: float, Fx_R: float) -> None:
-        """Advance by h: ``I_y dΩ/dt = T - r0 (Fx_L + Fx_R)`` with the forces held and the torque
-        at mid-step (exact for a torque linear in time)."""
+    def step(self, h: float, torque_mid: float, Fx_L: float, Fx_R: float,
+             brake: float = 0.0) -> None:
+        """Advance by h: ``I_y dΩ/dt = T - T_b(Ω) - r0 (Fx_L + Fx_R)`` and, with a vehicle mass,
+        ``m dV/dt = Fx_L + Fx_R``, with the forces held and the torque at mid-step (exact for a
+        torque linear in time)."""
         if not (h > 0.0):
             return
         p = self.p
-        self.omega += h * (torque_mid - p.r0 * (Fx_L + Fx_R)) / p.I_y
+        force = Fx_L + Fx_R
+        w_reg = p.V_reg / p.r0
+        brake_torque = -abs(brake) * self.omega / max(abs(self.omega), w_reg)
+        self.omega += h * (torque_mid + brake_torque - p.r0 * force) / p.I_y
+        if p.m_vehicle > 0.0:
+            self.V += h * force / p.m_vehicle
         self.t += h
 
 
