@@ -107,6 +107,24 @@ def check_inputs(xi: float, eta: float, phi: float, N: float, mu: float,
         raise out_of_range("nu", nu)
 
 
+def _moderate(xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
+              G: float, nu: float, saturates: bool) -> bool:
+    """Inputs a method computes directly in SI units: semi-axes 1e-8..1e3 m, G 1e-3..1e15 Pa,
+    N and μN (N without saturation) 1e-12..1e12 N, |σ| <= 1e6 (max(a, b) >= √(ab) bounding the
+    spin term). Every product and square of the methods' SI arithmetic then stays far inside the
+    float range; with ν and a/b in range these bounds imply every check of check_inputs. NaN
+    fails every comparison. Literal numbers: this runs at every call."""
+    if (1e-8 <= a <= 1e3 and 1e-8 <= b <= 1e3 and 1e-3 <= G <= 1e15 and 1e-12 <= N <= 1e12
+            and 0.0 <= nu < 0.5 and 0.005 <= a / b <= 200.0
+            and 0.0 <= mu <= 1.7976931348623157e308):
+        mun = mu * N if saturates else N
+        if 1e-12 <= mun <= 1e12:
+            s = ((xi if xi >= 0.0 else -xi) + (eta if eta >= 0.0 else -eta)
+                 + (phi if phi >= 0.0 else -phi) * (a if a > b else b)) * (G * a * b / mun)
+            return s <= 1e6 and (s >= 1e-60 or s == 0.0)
+    return False
+
+
 # Similarity units (ContactMethod._similar).
 _P0 = 3.0 / (2.0 * math.pi)         # p0 = _P0 N/(ab)
 _LOG_P0 = math.log(_P0)
@@ -137,6 +155,8 @@ class ContactMethod(ABC):
         self.effects = effects
         self.options = {**self.default_options, **options}
         self._saturates = effects.saturation and self.saturates
+        # every creepage input selected: the fast path of step need not check for ignored ones
+        self._all_inputs = effects.longitudinal and effects.lateral and effects.spin
         self._check_options()
 
     def _check_options(self) -> None:
@@ -154,6 +174,8 @@ class ContactMethod(ABC):
     def step(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
              G: float, nu: float, warm_start: ContactResult | None = None) -> ContactResult:
         """Solve one contact state (SI units; see ``contact_core.solve`` for the arguments)."""
+        if self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu, self._saturates):
+            return self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
         check_inputs(xi, eta, phi, N, mu, a, b, G, nu)
         eff = self.effects
         if (xi and not eff.longitudinal) or (eta and not eff.lateral) or (phi and not eff.spin):
@@ -164,18 +186,8 @@ class ContactMethod(ABC):
         if N == 0.0 or (mu == 0.0 and eff.saturation):
             # Wheel lifted (no load) or frictionless contact: no tangential force.
             return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
-        # Moderate inputs (every product and square of the methods' SI arithmetic far inside
-        # the float range): computed directly. Anything else: in Hertzian similarity units.
-        # Literal bounds (semi-axes 1e-8..1e3 m, G 1e-3..1e15 Pa, N and μN 1e-12..1e12 N; the
-        # creepage bound uses max(a, b) >= √(ab)): checked at every call, so kept cheap.
-        if (1e-8 <= a <= 1e3 and 1e-8 <= b <= 1e3 and 1e-3 <= G <= 1e15
-                and 1e-12 <= N <= 1e12):
-            mun = mu * N if self._saturates else N
-            if 1e-12 <= mun <= 1e12:
-                s = ((xi if xi >= 0.0 else -xi) + (eta if eta >= 0.0 else -eta)
-                     + (phi if phi >= 0.0 else -phi) * (a if a > b else b)) * (G * a * b / mun)
-                if s <= 1e6 and (s >= 1e-60 or s == 0.0):
-                    return self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+        if _moderate(xi, eta, phi, N, mu, a, b, G, nu, self._saturates):
+            return self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
         return self._similar(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
 
     def _similar(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
@@ -241,6 +253,15 @@ class ContactMethod(ABC):
                              f"({why})")
         d = r.__dict__.copy()
         d.update(Fx=out[0], Fy=out[1], Mz=out[2])
+        if r.fields is not None:  # traction maps in SI units (a method's fields.scaled)
+            try:
+                p0 = math.exp(_LOG_P0 + math.log(N) - math.log(a) - math.log(b))
+                friction = mu * p0
+                traction = (friction if sat else p0) * down
+                slip = math.exp(-(log_k + shift))
+            except OverflowError:
+                p0 = friction = traction = slip = math.inf
+            d["fields"] = r.fields.scaled(b, p0, friction, traction, slip)
         return ContactResult(**d)
 
     @abstractmethod

@@ -106,7 +106,7 @@ it). The no-fields path allocates no arrays.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable
 
 import numpy as np
@@ -272,6 +272,14 @@ class FastsimFields:
     bound: np.ndarray
     slip: np.ndarray
     area: np.ndarray
+
+    def scaled(self, length: float, pressure: float, bound: float, traction: float,
+               slip: float) -> "FastsimFields":
+        """The fields in other units (``ContactMethod._similar``): lengths, the friction bound
+        and the tractions times the given factors (``pressure`` and ``slip`` unused here)."""
+        return replace(self, x=self.x * length, y=self.y * length, px=self.px * traction,
+                       py=self.py * traction, bound=self.bound * bound,
+                       area=self.area * (length * length))
 
 
 class Fastsim(ContactMethod):

@@ -205,3 +205,23 @@ def test_extreme_scales_are_the_physical_problem_scaled(method, xi, eta, phi, N,
     tol = 1e-9 * (mu * N + abs(r.Fx) + abs(r.Fy))
     assert abs(rs.Fx / scale ** 2 - r.Fx) <= tol and abs(rs.Fy / scale ** 2 - r.Fy) <= tol
     assert abs(rs.Mz / scale ** 3 - r.Mz) <= tol * math.sqrt(kw["a"] * kw["b"]) + 1e-9 * abs(r.Mz)
+
+
+@pytest.mark.parametrize("method", ["fastsim", "exact"])
+@pytest.mark.parametrize("scale", [1e-100, 1e100])
+def test_extreme_scales_keep_the_traction_maps(method, scale):
+    """The same similarity for the fields: coordinates × λ, pressures, tractions and slips
+    unchanged (areas × λ²)."""
+    kw = _case(1e-3, -4e-4, 0.3, 1e5, 0.3, 1.5, 5e-3, 8e10, 0.28)
+    big = dict(kw, a=kw["a"] * scale, b=kw["b"] * scale, N=kw["N"] * scale * scale,
+               phi=kw["phi"] / scale)
+    f = solve(method, {**SOLVERS[method], "fields": True}, **kw).fields
+    g = solve(method, {**SOLVERS[method], "fields": True}, **big).fields
+    length = {"x", "y"}
+    for name in f.__dataclass_fields__:
+        a, b = getattr(f, name), getattr(g, name)
+        want = a * scale if name in length else a * scale ** 2 if name == "area" else a
+        if a.dtype.kind in "biu":
+            assert (b == want).all(), name
+        else:
+            assert abs(b - want).max() <= 1e-12 * abs(want).max(), name

@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -86,6 +86,14 @@ class ExactFields:
     sx: np.ndarray
     sy: np.ndarray
     status: np.ndarray
+
+    def scaled(self, length: float, pressure: float, bound: float, traction: float,
+               slip: float) -> "ExactFields":
+        """The fields in other units (``ContactMethod._similar``): lengths, pressure, tractions
+        and slips times the given factors (``bound`` unused here)."""
+        return replace(self, x=self.x * length, y=self.y * length, pn=self.pn * pressure,
+                       px=self.px * traction, py=self.py * traction, sx=self.sx * slip,
+                       sy=self.sy * slip)
 
 
 @dataclass(frozen=True)
