@@ -229,18 +229,13 @@ class ContactMethod(ABC):
                             warm_start)
         # back to SI: forces per (μ)N, moment per (μ)N c; linear regime: undo the scale-up
         f_scale = (mu * N if sat else N) / n_canon
+        down = 1.0
         try:
             down = math.exp(-shift) if (shift > 0.0 or not sat) else 1.0
             m_scale = f_scale * math.exp(log_c) / c_canon
             out = [v * down * sc for v, sc in ((r.Fx, f_scale), (r.Fy, f_scale), (r.Mz, m_scale))]
         except OverflowError:
-            out = [math.inf]
-        if sat and math.isfinite(f_scale):
-            # Rounding guard for tiny loads (subnormal μN has few significant digits): |F| <= μN.
-            bound = mu * N
-            while math.hypot(out[0], out[1]) > bound:
-                out[0] = math.nextafter(out[0], 0.0)
-                out[1] = math.nextafter(out[1], 0.0)
+            out = [math.inf] * 3
         if not (math.isfinite(f_scale) and all(math.isfinite(v) for v in out)):
             if sat:
                 raise ValueError(f"mu={mu!r}, N={N!r}, a={a!r}, b={b!r}: the force bound mu*N "
@@ -251,6 +246,12 @@ class ContactMethod(ABC):
             raise ValueError(f"xi={xi!r}, eta={eta!r}, phi={phi!r}: the unsaturated force "
                              "overflows: allowed creepages whose force is below 1.8e308 N "
                              f"({why})")
+        if sat:
+            # Rounding guard for tiny loads (subnormal μN has few significant digits): |F| <= μN.
+            bound = mu * N
+            while math.hypot(out[0], out[1]) > bound:
+                out[0] = math.nextafter(out[0], 0.0)
+                out[1] = math.nextafter(out[1], 0.0)
         d = r.__dict__.copy()
         d.update(Fx=out[0], Fy=out[1], Mz=out[2])
         if r.fields is not None:  # traction maps in SI units (a method's fields.scaled)
