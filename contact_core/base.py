@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import operator
 from abc import ABC, abstractmethod
+from dataclasses import replace
 from typing import Any, ClassVar, Sequence
 
 import numpy as np
@@ -126,7 +127,7 @@ def _moderate(xi: float, eta: float, phi: float, N: float, mu: float, a: float, 
 
 
 # Similarity units (ContactMethod._similar).
-_P0 = 3.0 / (2.0 * math.pi)         # p0 = _P0 N/(ab)
+_P0 = 3.0 / (2.0 * math.pi)         # p0 = _P0 N/(ab) (hertz.max_pressure; Kalker 1979 eq 3)
 _LOG_P0 = math.log(_P0)
 _N_CANON = 2.0 * math.pi / 3.0      # the load of the canonical problem: p0 = 1 with a b = 1
 _LOG_S_MAX, _LOG_S_MIN = math.log(1e100), math.log(1e-100)
@@ -186,7 +187,8 @@ class ContactMethod(ABC):
         if N == 0.0 or (mu == 0.0 and eff.saturation):
             # Wheel lifted (no load) or frictionless contact: no tangential force.
             return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
-        if _moderate(xi, eta, phi, N, mu, a, b, G, nu, self._saturates):
+        # with every input selected, _moderate was already False above
+        if not self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu, self._saturates):
             return self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
         return self._similar(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
 
@@ -252,9 +254,8 @@ class ContactMethod(ABC):
             while math.hypot(out[0], out[1]) > bound:
                 out[0] = math.nextafter(out[0], 0.0)
                 out[1] = math.nextafter(out[1], 0.0)
-        d = r.__dict__.copy()
-        d.update(Fx=out[0], Fy=out[1], Mz=out[2])
-        if r.fields is not None:  # traction maps in SI units (a method's fields.scaled)
+        fields = r.fields
+        if fields is not None:  # traction maps in SI units (a method's fields.scaled)
             try:
                 p0 = math.exp(_LOG_P0 + math.log(N) - math.log(a) - math.log(b))
                 friction = mu * p0
@@ -262,8 +263,8 @@ class ContactMethod(ABC):
                 slip = math.exp(-(log_k + shift))
             except OverflowError:
                 p0 = friction = traction = slip = math.inf
-            d["fields"] = r.fields.scaled(b, p0, friction, traction, slip)
-        return ContactResult(**d)
+            fields = fields.scaled(b, p0, friction, traction, slip)
+        return replace(r, Fx=out[0], Fy=out[1], Mz=out[2], fields=fields)
 
     @abstractmethod
     def _step_impl(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,

@@ -60,8 +60,6 @@ class WheelRailConfig:
         Young's modulus (Pa) and Poisson's ratio of wheel and rail (same material).
     R_wheel : float
         Rolling radius, m.
-
-    Defaults and allowed ranges: :data:`contact_core.variables.VARIABLES`.
     R_wheel_profile : float
         Transverse radius of the wheel profile, m (negative: concave/hollow; 0 or inf: straight,
         i.e. a conical tread; 0 is the finite form FMI hosts need).
@@ -69,6 +67,8 @@ class WheelRailConfig:
         Rail-crown radius, m (convex positive; 0 or inf: straight).
     options : mapping
         Options of the method (its ``default_options`` keys), e.g. ``{"variant": "original"}``.
+
+    Defaults and allowed ranges: :data:`contact_core.variables.VARIABLES`.
     """
 
     method: str = "johnson_vermeulen"
@@ -100,7 +100,6 @@ class WheelRailConfig:
                 f"give a transverse relative curvature B={B!r} 1/m: allowed 0 < B < inf, i.e. "
                 "1/R_wheel_profile + 1/R_rail_profile > 0 (a concave wheel profile must be flatter "
                 "than the rail crown)")
-
 
     def curvatures(self) -> tuple[float, float]:
         """Relative curvatures (A, B), 1/m (:func:`~contact_core.hertz.wheel_rail_curvatures`;

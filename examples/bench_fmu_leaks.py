@@ -42,7 +42,7 @@ def measure(path: str, refused: int, cycles: int) -> dict:
 
     out: dict = {}
     inst = FmuInstance(path, "refused")
-    xi = [inst.vars["xi"].valueReference]
+    xi = [inst.vr("xi")]
 
     def refuse(n):
         for _ in range(n):

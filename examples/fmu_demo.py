@@ -37,6 +37,15 @@ def input_table(n: int = 201) -> np.ndarray:
     return sig
 
 
+def _right_axis(ax, t: np.ndarray, y: np.ndarray, style: str, label: str, ylabel: str) -> None:
+    """Plot ``y`` on a second y axis on the right of ``ax``; a legend for each axis."""
+    twin = ax.twinx()
+    twin.plot(t, y, style, label=label)
+    twin.set_ylabel(ylabel)
+    ax.legend(loc="upper left")
+    twin.legend(loc="lower right")
+
+
 def plot(res: np.ndarray, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -46,18 +55,10 @@ def plot(res: np.ndarray, path: Path) -> None:
     ax[0].plot(t, 100 * res["xi"], label="ξ (longitudinal)")
     ax[0].plot(t, 100 * res["eta"], label="η (lateral)")
     ax[0].set_ylabel("creepage, %")
-    twin = ax[0].twinx()
-    twin.plot(t, res["phi"], "C2", label="φ (spin)")
-    twin.set_ylabel("spin φ, 1/m")
-    ax[0].legend(loc="upper left")
-    twin.legend(loc="lower right")
+    _right_axis(ax[0], t, res["phi"], "C2", "φ (spin)", "spin φ, 1/m")
     ax[1].plot(t, res["N"] / 1e3, "k", label="N")
     ax[1].set_ylabel("normal load N, kN")
-    twin = ax[1].twinx()
-    twin.plot(t, res["mu"], "C3", label="μ")
-    twin.set_ylabel("friction μ")
-    ax[1].legend(loc="upper left")
-    twin.legend(loc="lower right")
+    _right_axis(ax[1], t, res["mu"], "C3", "μ", "friction μ")
     ax[2].plot(t, res["Fx"] / 1e3, label="Fx")
     ax[2].plot(t, res["Fy"] / 1e3, label="Fy")
     ax[2].plot(t, -res["mu"] * res["N"] / 1e3, "k--", lw=0.8, label="−μN")

@@ -24,6 +24,11 @@ from fmpy.logging import addLoggerProxy
 KEEP = 1000
 STATUS_NAMES = ("ok", "warning", "discard", "error", "fatal", "pending")
 _unzipped: dict[tuple, str] = {}
+#: FMU2Slave's setter and getter per variable type.
+_SETTERS = {"Real": "setReal", "Integer": "setInteger", "Enumeration": "setInteger",
+            "Boolean": "setBoolean", "String": "setString"}
+_GETTERS = {"Real": "getReal", "Integer": "getInteger", "Enumeration": "getInteger",
+            "Boolean": "getBoolean", "String": "getString"}
 
 
 def unzipped(path: str | Path) -> str:
@@ -99,19 +104,13 @@ class FmuInstance:
     def set(self, **values: Any) -> None:
         for name, value in values.items():
             v = self.variable(name)
-            setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger,
-                      "Enumeration": self.fmu.setInteger, "Boolean": self.fmu.setBoolean,
-                      "String": self.fmu.setString}[v.type]
-            setter([v.valueReference], [value])
+            getattr(self.fmu, _SETTERS[v.type])([v.valueReference], [value])
 
     def get(self, *names: str) -> list:
         out = []
         for name in names:
             v = self.variable(name)
-            getter = {"Real": self.fmu.getReal, "Integer": self.fmu.getInteger,
-                      "Enumeration": self.fmu.getInteger, "Boolean": self.fmu.getBoolean,
-                      "String": self.fmu.getString}[v.type]
-            value = getter([v.valueReference])[0]
+            value = getattr(self.fmu, _GETTERS[v.type])([v.valueReference])[0]
             out.append(value.decode() if isinstance(value, bytes) else value)
         return out
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 import json
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
@@ -51,6 +51,10 @@ UNITS: dict[str, dict[str, int]] = {
     "N.m": {"kg": 1, "m": 2, "s": -2},
     "Pa": {"kg": 1, "m": -1, "s": -2},
 }
+
+
+#: The Python type of the values of each FMI 2.0 variable type.
+PYTHON_TYPES: dict[str, type] = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
 
 
 @dataclass(frozen=True)
@@ -201,17 +205,7 @@ def variables_for(effects: tuple[str, ...], method: str, methods: dict[str, type
 def _override(v: VarSpec, overrides: dict[str, Any]) -> VarSpec:
     if v.name not in overrides:
         return v
-    value = overrides[v.name]
-    if v.type == "Real":
-        value = float(value)
-    elif v.type == "Integer":
-        value = int(value)
-    elif v.type == "Boolean":
-        value = bool(value)
-    else:
-        value = str(value)
-    return VarSpec(v.name, v.type, v.causality, v.variability, v.description, v.unit, value,
-                   v.initial, v.depends, v.option)
+    return replace(v, start=PYTHON_TYPES[v.type](overrides[v.name]))
 
 
 # ----------------------------------------------------------------------------------------------

@@ -27,19 +27,17 @@ returns ``fmi2Discard``.
 """
 from __future__ import annotations
 
-from typing import Any, Callable, Mapping
+from typing import Any, Mapping
 
 from . import state as fmu_state
-from .model_description import (INVALID_INPUT_CHOICES, BuildConfig, VarSpec,
+from .model_description import (INVALID_INPUT_CHOICES, PYTHON_TYPES, BuildConfig, VarSpec,
                                 finalize_model_description, variables_for)
 from .runtime import contact_core, load_notices, pythonfmu
 
 Fmi2Status = pythonfmu.enums.Fmi2Status
 _VAR_TYPES = {"Real": pythonfmu.Real, "Integer": pythonfmu.Integer,
               "Boolean": pythonfmu.Boolean, "String": pythonfmu.String}
-_CONVERT: dict[str, Callable[[Any], Any]] = {"Real": float, "Integer": int, "Boolean": bool,
-                                              "String": str}
-_ZERO = {"Real": 0.0, "Integer": 0, "Boolean": False, "String": ""}
+_ZERO = {t: py() for t, py in PYTHON_TYPES.items()}  # 0.0, 0, False, ""
 #: FMI options of the model description (pythonfmu's names).
 MODEL_OPTIONS = {"canGetAndSetFMUstate": True, "canSerializeFMUstate": True,
                  "needsExecutionTool": False}
@@ -93,12 +91,12 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         # Per type, value reference -> name: what may be read, and what may be set per mode
         # (FMI 2.0 sec. 4.2.4: fixed parameters only before fmi2ExitInitializationMode).
         self._readable = {t: {vr: s.name for vr, s in self._by_vr.items() if s.type == t}
-                          for t in _CONVERT}
+                          for t in PYTHON_TYPES}
         self._settable_by_mode = {
             mode: {t: {vr: s.name for vr, s in self._by_vr.items() if s.type == t
                        and (s.causality == "input" or (s.causality == "parameter"
                                                        and mode != "step"))}
-                   for t in _CONVERT}
+                   for t in PYTHON_TYPES}
             for mode in ("instantiated", "initialization", "step")}
         self._settable = self._settable_by_mode["instantiated"]
         for notice in load_notices():
@@ -118,7 +116,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
 
     def _enter(self, mode: str) -> None:
         self._mode = mode
-        self._settable = self._settable_by_mode.get(mode, {t: {} for t in _CONVERT})
+        self._settable = self._settable_by_mode.get(mode, {t: {} for t in PYTHON_TYPES})
         if mode == "step":
             self._refusal = (Fmi2Status.discard if self.invalid_input == "discard"
                              else Fmi2Status.error)
@@ -281,7 +279,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
 
     # -- FMU state (the state object is its serialized form: an immutable snapshot) -------------
     def _get_fmu_state(self) -> bytes:
-        values = {s.name: _CONVERT[s.type](getattr(self, s.name)) for s in self._specs}
+        values = {s.name: PYTHON_TYPES[s.type](getattr(self, s.name)) for s in self._specs}
         ev = self._evaluator
         return fmu_state.write(fmu_state.FmuState(self.guid, self._mode, values,
                                                   ev.last if ev is not None else None))

@@ -29,6 +29,7 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
+from .model_description import PYTHON_TYPES
 from .runtime import contact_core
 
 FORMAT_VERSION = 1
@@ -41,7 +42,6 @@ _DTYPES = {"<f8": np.float64, "|i1": np.int8}
 _MAX_HEADER = 1 << 20
 _MAX_ELEMENTS = 1 << 24
 _RESULT_FLOATS = ("Fx", "Fy", "Mz", "slip_fraction", "residual")
-_JSON_TYPES = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
 
 
 class StateError(ValueError):
@@ -140,7 +140,7 @@ def _values(values: Any, variables: list[tuple[str, str, str]]) -> dict[str, Any
         v = values[name]
         if typ == "Real" and type(v) is int:  # JSON may write a whole float without ".0"
             v = values[name] = float(v)
-        _expect(type(v) is _JSON_TYPES[typ], f"{name}={v!r} in the state is not of type {typ}")
+        _expect(type(v) is PYTHON_TYPES[typ], f"{name}={v!r} in the state is not of type {typ}")
         if typ == "Real" and causality != "input":
             _expect(math.isfinite(v), f"{name}={v!r} in the state is not finite")
     return values
