@@ -29,16 +29,32 @@ linear theory (Kalker 1979, eq 17) defines one flexibility per creepage,
     L1 = 8a / (3 G C11),   L2 = 8a / (3 G C22),   L3 = π a √(a/b) / (4 G C23),
 
 (check: p_x = -ξ (a(y) - x)/L1 gives Fx = -(8/3) a² b ξ / L1 = -G ab C11 ξ; p_y = -φ(a(y)² - x²)/(2 L3)
-gives Fy = -(π/4) a³ b φ / L3 = -G (ab)^{3/2} C23 φ.) FASTSIM assumes one flexibility for both
-directions, L_x = L_y = L (Kalker 1979, sec. 5, "the fastest method"), and Kalker 1982 combines the
-three into the single weighted flexibility
+gives Fy = -(π/4) a³ b φ / L3 = -G (ab)^{3/2} C23 φ.) These are the flexibilities CONTACT uses in
+its FASTSIM (its ``tractcurv`` example lists FLX1..3, which these formulas reproduce to 0.1 %).
+
+Option ``flexibility``:
+
+``"separate"`` (default) — each creepage with its own flexibility, as CONTACT does: in stick
+    dp_x/dx = ξ/L1 - φy/L3, dp_y/dx = η/L2 + φx/L3, so every linear term of Kalker's linear theory
+    (C11 ξ, C22 η, C23 φ) is reproduced at once, also for combined creepage. In the slip zone the
+    stick predictor p_H is brought onto the traction bound along the slip of a bed with the
+    flexibility tensor diag(Lx, Ly) (Kalker 1979, eq 34, u = L p, with a diagonal L): the slip over a step is S = Lx,y (p - p_H) per component and
+    p = -g S/|S|, i.e. p_i = p_H,i t L_i/(1 + t L_i) with the one t > 0 that puts |p| on g
+    (Newton's method). Lx, Ly weight L1, L2 with L3 by the shares of creepage and spin,
+    Lx = (L1|ξ| + L3 c|φ|)/(|ξ| + c|φ|), Ly = (L2|η| + L3 c|φ|)/(|η| + c|φ|), so that with
+    L1 = L2 = L3 this is FASTSIM's radial projection, and in full sliding under (ξ, η) the force
+    is opposite to the creepage (μN at the angle of (ξ, η) as the creepage grows; a radial
+    projection would keep the angle of (ξ/L1, η/L2) instead).
+``"weighted"`` — Kalker 1982's single flexibility for all directions (Kalker 1979, sec. 5)
 
     L = (L1 |ξ| + L2 |η| + L3 c |φ|) / √(ξ² + η² + c² φ²),   c = √(ab),
 
-which reduces to L1, L2 or L3 exactly for pure ξ, pure η or pure φ (so each of C11, C22, C23 is
-reproduced in its own limit). With only one of ξ, η, φ non-zero this module uses that L_i directly
-(bit-identical results for the reduced effect sets). (CONTACT uses a different blend, ``simpflex``
-in ``m_hertz.f90``, Vollebregt; not used here.)
+    which reduces to L1, L2 or L3 for pure ξ, η or φ (the two options then agree exactly). For
+    combined creepage it is too flexible (at ξ = η, L ≈ √2 times the mean of L1 and L2): against
+    the converged exact theory its force error reaches 19 % of μN where "separate" stays below
+    5 % (docs/accuracy_vs_time.md).
+
+(CONTACT's own blend, ``simpflex`` in ``m_hertz.f90``, Vollebregt, is not used here.)
 
 Traction bound g = μ p_n (option ``bound``):
 
@@ -63,11 +79,11 @@ Every step of length τ ends at its traction point x and integrates the rigid sl
 moment is Mz = Σ (x p_y - y p_x) ΔA (z-moment about the contact centre, same sign convention as
 linear theory).
 
-``"midpoint"`` (default) — a half step Δx_j/2 to the first centre (its exact distance from the
+``"midpoint"`` — a half step Δx_j/2 to the first centre (its exact distance from the
     leading edge), then full steps. In full stick the traction is exactly linear (ξ, η) or
     quadratic (φ) in x, so the only discretisation errors are the midpoint rules in x and y: the
     force converges as O(n⁻²) to linear theory (exactly 1/(2n²) for pure ξ; tests check the order).
-``"kalker"`` — Kalker's original FASTSIM discretisation as implemented in CONTACT (Kalker 1982,
+``"kalker"`` (default) — Kalker's original FASTSIM discretisation as implemented in CONTACT (Kalker 1982,
     Vehicle System Dynamics 11, 1-13; CONTACT, E. A. H. Vollebregt & J. J. Kalker, open source):
     full steps Δx_j from the leading edge, tractions at the element centres. The first step
     overshoots the distance to the first centre by Δx_j/2, i.e. the march behaves as if the
@@ -81,9 +97,23 @@ linear theory).
 
 Both converge to the same continuum FASTSIM solution (tests: on CONTACT's tractcurv example the
 Richardson-extrapolated "kalker" curve equals the 400×400 "midpoint" curve to 0.02 %).
-``"midpoint"`` is the default because it is the more accurate at the same cost: O(n⁻²) instead of
-O(n⁻¹) (0.13 % vs 5 % from linear theory at 20×20 for pure ξ); ``"kalker"`` is there to
-reproduce the published algorithm and CONTACT's numbers.
+The default is chosen by the accuracy against the exact theory, not against FASTSIM's own grid
+limit: simplified theory under-estimates the force in partial slip, and the first-order excess of
+"kalker" at 20×20 makes up for much of it. Against the converged exact solution (benchmark, 400
+cases, 20×20, separate flexibilities, |F| error p95 / max in % of μN):
+
+    ==========  ==========  ===========  ===========  ============  ===========
+    bound       scheme      pure ξ       ξ and η      pure φ        with spin
+    ==========  ==========  ===========  ===========  ============  ===========
+    parabolic   kalker      1.5 / 1.8    1.6 / 1.8    9.7 / 11.6    7.6 / 13.6
+    parabolic   midpoint    3.4 / 4.2    3.6 / 4.5    9.7 / 11.6    7.6 / 12.7
+    elliptic    kalker      5.6 / 6.1    5.7 / 6.1    6.9 / 10.3    8.7 / 16.2
+    elliptic    midpoint    4.7 / 6.0    4.9 / 5.9    4.4 / 8.5     8.4 / 12.8
+    ==========  ==========  ===========  ===========  ============  ===========
+
+and on CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is within 1.9 %
+of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" within 4.8 % (tests).
+"midpoint" remains the scheme whose FASTSIM solution converges fastest with the grid (O(n⁻²)).
 
 The discrete bound is scaled by a constant (depending on nx, ny and the bound only) so
 that Σ p_n ΔA = N exactly on the traction points; full sliding then gives |F| = μN at any grid,
@@ -123,18 +153,21 @@ BOUNDS: tuple[str, ...] = ("parabolic", "elliptic")
 #: leading edge to the first element centre, as a fraction of the element length Δx_j (exact ½,
 #: or Kalker's/CONTACT's full step). The traction points are the element centres in both.
 SCHEMES: dict[str, float] = {"midpoint": 0.5, "kalker": 1.0}
+#: Flexibilities (option ``flexibility``): one per creepage, or Kalker 1982's single weighted one.
+FLEXIBILITIES: tuple[str, ...] = ("separate", "weighted")
 
 # Rows of the fields array the kernel fills when asked.
 _FX, _FY, _FPX, _FPY, _FG, _FSLIP, _FAREA = range(7)
 
 
-def _march(a: float, b: float, xi: float, eta: float, phi: float, inv_l: float, g0: float,
+def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2: float,
+           k3: float, r21: float, g0: float,
            elliptic: bool, nx: int, ny: int, first: float, do_x: bool, do_y: bool, do_mz: bool,
            saturate: bool, out: Any) -> tuple[float, float, float, float, float]:
     """FASTSIM strip march (Kalker 1979, eq 38) on the strip grid (module docstring).
 
     Arguments in SI units: semi-axes ``a, b`` (m), creepages ``xi, eta`` (-), spin ``phi`` (1/m),
-    ``inv_l`` = 1/L (Pa/m), ``g0`` = peak of the traction bound μ p_n (Pa, incl. the discrete load
+    ``k1, k2, k3`` = 1/L1, 1/L2, 1/L3 (Pa/m; the flexibilities of ξ, η and φ), ``g0`` = peak of the traction bound μ p_n (Pa, incl. the discrete load
     normalisation). The traction points are the element centres x_i = a_j - (i + ½) Δx_j,
     i = 0..nx-1; ``first`` is the length of the first step (from the leading edge to the first
     centre) as a fraction of Δx_j (``SCHEMES``: 0.5 "midpoint", 1.0 "kalker"), the others are
@@ -163,7 +196,7 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, inv_l: float, 
         dx = 2.0 * hj
         hq = hj * hj * inv_a2
         da = dx * dy
-        wx = (xi - phi * y) * inv_l          # dp_x/dx in stick (Kalker 1979, eq 37)
+        wx = xi * k1 - phi * y * k3          # dp_x/dx in stick (Kalker 1979, eq 37)
         px = 0.0
         py = 0.0
         spx = 0.0
@@ -179,7 +212,7 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, inv_l: float, 
             if do_x:
                 px -= wx * h
             if do_y:
-                py -= (eta + phi * (x + 0.5 * h)) * inv_l * h
+                py -= (eta * k2 + phi * (x + 0.5 * h) * k3) * h
             slip = False
             g = 0.0
             if saturate or out is not None:
@@ -188,9 +221,12 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, inv_l: float, 
             if saturate:
                 n2 = px * px + py * py
                 if n2 > g * g:
-                    f = g / math.sqrt(n2)
-                    px *= f
-                    py *= f
+                    if r21 == 1.0 or px == 0.0 or py == 0.0:
+                        f = g / math.sqrt(n2)
+                        px *= f
+                        py *= f
+                    else:
+                        px, py = _onto_bound(px, py, g, r21)
                     slip = True
                     nslip += 1
             spx += px
@@ -215,6 +251,35 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, inv_l: float, 
     return fx, fy, mz, a_slip, a_tot
 
 
+def _onto_bound(hx: float, hy: float, g: float, r21: float) -> tuple[float, float]:
+    """The slipping traction from the stick predictor (hx, hy), |(hx, hy)| > g, for the
+    flexibility tensor diag(L1, L2), r21 = L2/L1 (module docstring, "Slip with two
+    flexibilities"): p = (hx t/(1 + t), hy r21 t/(1 + r21 t)) with t > 0 such that |p| = g.
+    Newton's method on the monotone |p|(t)² - g², started from the isotropic solution."""
+    h = math.sqrt(hx * hx + hy * hy)
+    t = g / (h - g)                          # exact for r21 = 1
+    for _ in range(50):
+        ux = t / (1.0 + t)
+        s = r21 * t
+        uy = s / (1.0 + s)
+        f = (hx * ux) ** 2 + (hy * uy) ** 2 - g * g
+        df = 2.0 * (hx * hx * ux / (1.0 + t) ** 2 + hy * hy * uy * r21 / (1.0 + s) ** 2)
+        step = f / df
+        t_new = t - step
+        if t_new <= 0.0:
+            t_new = 0.5 * t
+        if abs(t_new - t) <= 1e-14 * t:
+            t = t_new
+            break
+        t = t_new
+    ux = t / (1.0 + t)
+    uy = r21 * t / (1.0 + r21 * t)
+    px = hx * ux
+    py = hy * uy
+    f = g / math.sqrt(px * px + py * py)    # land exactly on the bound
+    return px * f, py * f
+
+
 _KERNEL: Callable | None = None
 
 
@@ -223,6 +288,8 @@ def _kernel() -> Callable:
     global _KERNEL
     if _KERNEL is None:
         import numba
+        global _onto_bound
+        _onto_bound = numba.njit(cache=True, nogil=True, error_model="numpy")(_onto_bound)
         _KERNEL = numba.njit(cache=True, nogil=True, error_model="numpy")(_march)
     return _KERNEL
 
@@ -293,26 +360,26 @@ class Fastsim(ContactMethod):
         Number of strips across the contact (1 .. 2000).
     bound : {"parabolic", "elliptic"}, default "parabolic"
         Traction-bound shape (see the module docstring for the choice of default).
-    scheme : {"midpoint", "kalker"}, default "midpoint"
+    scheme : {"midpoint", "kalker"}, default "kalker"
         Discretisation of the march (module docstring); tractions at the element centres in both:
-        a half first step, second order (default), or Kalker's/CONTACT's full first step, first
-        order (reproduces CONTACT's published FASTSIM values).
+        Kalker's/CONTACT's full first step, first order (the default: closer to the exact theory
+        at 20×20), or a half first step, second order in FASTSIM's own grid limit.
+    flexibility : {"separate", "weighted"}, default "separate"
+        One flexibility per creepage (L1, L2, L3, as CONTACT), or Kalker 1982's single weighted
+        flexibility (module docstring).
     fields : bool, default False
         Return :class:`FastsimFields` (grid, tractions, bound, stick/slip mask, areas).
 
     Default grid 20×20: it meets the speed budget (about 6 µs per ``solve`` call on the project
-    machine, see ``examples/bench_fastsim.py``) and is accurate enough for vehicle dynamics:
-    against the converged FASTSIM solution (400×400) the force error is 0.13 % in the linear
-    regime (exactly 1/(2n²) for pure ξ: O(n⁻²)) and typically 0.2-2 % in partial slip, up to about
-    5 % for spin-dominated combined cases (there the stick/slip front crossing the elements makes
-    the error roughly first order, halving per grid doubling). Refine (40×40, 80×80) for
-    smoother traction maps or reference values; 10×10 costs ~4 µs with errors of 1-10 %.
+    machine, see ``examples/bench_fastsim.py``); its accuracy against the exact theory is in the
+    module docstring and docs/accuracy_vs_time.md. Refine (40×40, 80×80) for smoother traction
+    maps; the error against the exact theory is then dominated by simplified theory itself.
     """
 
     name = "fastsim"
     code = 3
-    default_options = {"nx": 20, "ny": 20, "bound": "parabolic", "scheme": "midpoint",
-                       "fields": False}
+    default_options = {"nx": 20, "ny": 20, "bound": "parabolic", "scheme": "kalker",
+                       "flexibility": "separate", "fields": False}
 
     def _check_options(self) -> None:
         o = self.options
@@ -320,11 +387,13 @@ class Fastsim(ContactMethod):
         int_option(o, "ny", *GRID_RANGE, "number of strips")
         choice_option(o, "bound", BOUNDS)
         choice_option(o, "scheme", tuple(SCHEMES))
+        choice_option(o, "flexibility", FLEXIBILITIES)
         bool_option(o, "fields")
         self._nx = self.options["nx"]
         self._ny = self.options["ny"]
         self._elliptic = self.options["bound"] == "elliptic"
         self._first = SCHEMES[o["scheme"]]
+        self._weighted = o["flexibility"] == "weighted"
         self._fields = bool(self.options["fields"])
         # Peak of p_n per unit N/(ab): 2/π (parabolic) or 3/(2π) (Hertz), times the load
         # normalisation of the discrete grid.
@@ -341,26 +410,24 @@ class Fastsim(ContactMethod):
                    b: float, G: float, nu: float,
                    warm_start: ContactResult | None) -> ContactResult:
         c11, c22, c23, _ = creep_coefficients(a / b, nu)
-        c = math.sqrt(a * b)
-        # Flexibilities (Kalker 1982), m/Pa, and the single weighted L (module docstring).
-        if eta == 0.0 and phi == 0.0:
-            flex = 8.0 * a / (3.0 * G * c11)
-        elif xi == 0.0 and phi == 0.0:
-            flex = 8.0 * a / (3.0 * G * c22)
-        elif xi == 0.0 and eta == 0.0:
-            flex = math.pi * a * math.sqrt(a / b) / (4.0 * G * c23)
-        else:
-            l1 = 8.0 * a / (3.0 * G * c11)
-            l2 = 8.0 * a / (3.0 * G * c22)
-            l3 = math.pi * a * math.sqrt(a / b) / (4.0 * G * c23)
-            cphi = c * abs(phi)
-            flex = (l1 * abs(xi) + l2 * abs(eta) + l3 * cphi) / math.sqrt(
+        # Flexibilities (Kalker 1982), m/Pa (module docstring)
+        l1 = 8.0 * a / (3.0 * G * c11)
+        l2 = 8.0 * a / (3.0 * G * c22)
+        l3 = math.pi * a * math.sqrt(a / b) / (4.0 * G * c23)
+        cphi = math.sqrt(a * b) * abs(phi)
+        if self._weighted and (xi != 0.0) + (eta != 0.0) + (phi != 0.0) > 1:
+            l1 = l2 = l3 = (l1 * abs(xi) + l2 * abs(eta) + l3 * cphi) / math.sqrt(
                 xi * xi + eta * eta + cphi * cphi)
+        # flexibilities of the slip law along x and y (module docstring)
+        ax, ay = abs(xi) + cphi, abs(eta) + cphi
+        lx = (l1 * abs(xi) + l3 * cphi) / ax if ax > 0.0 else l1
+        ly = (l2 * abs(eta) + l3 * cphi) / ay if ay > 0.0 else l2
         g0 = mu * N * self._g_factor / (a * b)
         nx, ny = self._nx, self._ny
         out = np.empty((7, ny, nx)) if self._fields else None
         fx, fy, mz, a_slip, a_tot = self._kern(
-            a, b, xi, eta, phi, 1.0 / flex, g0, self._elliptic, nx, ny, self._first,
+            a, b, xi, eta, phi, 1.0 / l1, 1.0 / l2, 1.0 / l3, ly / lx, g0, self._elliptic, nx, ny,
+            self._first,
             self._do_x, self._do_y, self._do_mz, self._saturate, out)
         eff = self.effects
         fields = None

@@ -39,11 +39,14 @@ def _patch(ab: float, c: float = 6e-3) -> tuple[float, float]:
     return ab * b, b
 
 
-def _coefficients(ab: float, m: int) -> np.ndarray:
-    """(C11, C22, C23, C33) from tiny creepage / spin (φ c = 1e-6), μ = 0.3, on an m×m grid."""
+def _coefficients(ab: float, m: int | None) -> np.ndarray:
+    """(C11, C22, C23, C33) from tiny creepage / spin (φ c = 1e-6), μ = 0.3, on one m×m grid
+    (``m=None``: the default setting, extrapolated)."""
     a, b = _patch(ab)
     c = math.sqrt(a * b)
-    kw = dict(N=1e5, mu=0.3, a=a, b=b, G=G, nu=NU, mx=m, my=m)
+    kw = dict(N=1e5, mu=0.3, a=a, b=b, G=G, nu=NU)
+    if m is not None:
+        kw.update(mx=m, my=m, extrapolate=False)
     rx = cc.solve("exact", xi=1e-6, eta=0.0, phi=0.0, **kw)
     ry = cc.solve("exact", xi=0.0, eta=1e-6, phi=0.0, **kw)
     rs = cc.solve("exact", xi=0.0, eta=0.0, phi=1e-6 / c, **kw)
@@ -55,7 +58,7 @@ def _coefficients(ab: float, m: int) -> np.ndarray:
 _COEF_CACHE: dict = {}
 
 
-def _rel_err(ab: float, m: int) -> np.ndarray:
+def _rel_err(ab: float, m: int | None) -> np.ndarray:
     key = (ab, m)
     if key not in _COEF_CACHE:
         _COEF_CACHE[key] = _coefficients(ab, m) / np.array(_table(ab)) - 1.0
@@ -113,7 +116,7 @@ def _c33(ab: float, m: int) -> float:
     a, b = _patch(ab)
     c = math.sqrt(a * b)
     r = cc.solve("exact", xi=0.0, eta=0.0, phi=1e-6 / c, N=1e5, mu=0.3, a=a, b=b, G=G, nu=NU,
-                 mx=m, my=m)
+                 mx=m, my=m, extrapolate=False)
     assert r.converged
     return -r.Mz / (G * c ** 3 * 1e-6)
 
@@ -142,14 +145,36 @@ def test_spin_moment_coefficient_c33_trend(ab):
     assert abs(_rel_err(ab, 40)[3]) < abs(_rel_err(ab, 20)[3])
 
 
-def test_discrete_reciprocity_c23():
-    # Mz per η equals -Fy per φ·c (C32 = -C23, Kalker 1967, sec. 6.1), also on the discrete grid
-    a, b = _patch(1.0)
+def _reciprocity_gap(ab: float, **opts) -> float:
+    """(C32 - C23)/C23 with C32 = Mz per η·c and C23 = -Fy per φ·c (all stick)."""
+    a, b = _patch(ab)
     c = math.sqrt(a * b)
-    kw = dict(N=1e5, mu=0.3, a=a, b=b, G=G, nu=NU, mx=16, my=16, tol=1e-10)
+    kw = dict(N=1e5, mu=0.3, a=a, b=b, G=G, nu=NU, tol=1e-10, **opts)
     ry = cc.solve("exact", xi=0.0, eta=1e-6, phi=0.0, **kw)
     rs = cc.solve("exact", xi=0.0, eta=0.0, phi=1e-6 / c, **kw)
-    assert ry.Mz / c == pytest.approx(-rs.Fy, rel=1e-6)
+    return (ry.Mz / c + rs.Fy) / -rs.Fy
+
+
+@pytest.mark.parametrize("ab", [0.2, 1.0, 5.0])
+def test_reciprocity_c32_equals_minus_c23_in_the_limit(ab):
+    # C32 = -C23 (Kalker 1967, sec. 6.1). The spin term of the rigid slip is sampled a quarter
+    # element downstream, which moves Fy(φ) by a first-order amount: on plain grids the gap
+    # halves with the element size (measured -8.7, -4.4, -2.2 % at a/b = 1), and the default
+    # setting (extrapolated to h -> 0) closes it.
+    gaps = [_reciprocity_gap(ab, mx=m, my=m, extrapolate=False) for m in (16, 32, 64)]
+    assert all(abs(g) < 0.15 for g in gaps), gaps
+    for coarse, fine in zip(gaps, gaps[1:]):
+        assert 1.8 < coarse / fine < 2.2, gaps
+    assert abs(_reciprocity_gap(ab)) < 0.005
+
+
+@pytest.mark.parametrize("ab", sorted({float(r["a_over_b"]) for r in csv.DictReader(
+    line for line in TABLE.read_text().splitlines() if not line.startswith("#"))}))
+def test_default_setting_matches_kalker_c11_c22_within_1_percent(ab):
+    # Issue 17: the default setting (52×52, extrapolated) reproduces Kalker's linear theory in
+    # the linear range, pure ξ and pure η, over the whole table a/b = 0.1 .. 10.
+    err = _rel_err(ab, None)
+    assert np.abs(err[:2]).max() < 0.01, err
 
 
 # ----------------------------------------------------------------------- CONTACT tractcurv
@@ -167,7 +192,7 @@ def test_tractcurv_creep_curve_matches_contact():
     N, mu = float(r0["FN_N"]), float(r0["FSTAT"])
     Gc, nu = float(r0["G_N_per_mm2"]) * 1e6, float(r0["POISS"])
     assert (int(r0["MX"]), int(r0["MY"]), float(r0["SCALE"])) == (48, 44, 1.1)
-    solver = cc.make_solver("exact", mx=48, my=44, scale=1.1, fields=True)
+    solver = cc.make_solver("exact", mx=48, my=44, scale=1.1, fields=True, extrapolate=False)
     checked = 0
     for r in rows:
         xi = float(r["CKSI"])
@@ -202,15 +227,17 @@ def test_full_sliding(xi, eta):
 
 # ------------------------------------------------------------------------------ hard cases
 
+@pytest.mark.parametrize("opts", [{"mx": 16, "my": 16, "extrapolate": False},
+                                  {"mx": 32, "my": 32}], ids=["16x16", "32x32-extrapolated"])
 @pytest.mark.parametrize("ab", [0.2, 1.0, 2.0, 5.0])
-def test_pure_spin_sweep_smooth(ab):
+def test_pure_spin_sweep_smooth(ab, opts):
     # Kalker's thesis program failed on pure spin near the peak for a/b = 5 and 2 (Kalker 1967).
     a, b = _patch(ab)
     c = math.sqrt(a * b)
     N, mu = 1e5, 0.3
     c23 = _table(ab)[2]
     phi_ref = mu * N / (G * c ** 3 * c23)      # spin at which linear theory reaches μN
-    solver = cc.make_solver("exact", mx=16, my=16)
+    solver = cc.make_solver("exact", **opts)
     F = []
     for psi in np.logspace(-2, 2, 81):
         r = solver.step(0.0, 0.0, psi * phi_ref, N, mu, a, b, G, NU)
@@ -330,7 +357,7 @@ def test_without_saturation_is_linear_in_creepage():
 
 def test_warm_start_is_faster_and_same(wheel_rail_case):
     # a co-simulation step: creepages and load change by 0.1 %
-    solver = cc.make_solver("exact", mx=24, my=24)
+    solver = cc.make_solver("exact", mx=24, my=24, extrapolate=False)
     k = wheel_rail_case
     cold = solver.step(1.0e-3, 5e-4, 0.2, k["N"], k["mu"], k["a"], k["b"], k["G"], k["nu"])
     step = (1.001e-3, 5.005e-4, 0.2002, k["N"] * 1.001, k["mu"], k["a"], k["b"], k["G"], k["nu"])
@@ -358,7 +385,8 @@ def test_isolated_warm_start_scales_the_previous_solution(wheel_rail_case):
     args = (k["N"], k["mu"], k["a"], k["b"], k["G"], k["nu"])
     # (1) without saturation (μ -> ∞, every element sticks) the problem is linear in the
     #     creepages (Kalker's linear theory), so p(s σ) = s p(σ);
-    lin = cc.make_solver("exact", mx=16, my=16, effects=("longitudinal", "lateral", "spin"))
+    lin = cc.make_solver("exact", mx=16, my=16, extrapolate=False,
+                         effects=("longitudinal", "lateral", "spin"))
     r1 = lin.step(1e-3, 5e-4, 0.2, *args)
     cold = lin.step(2.5e-3, 1.25e-3, 0.5, *args)
     warm = lin.step(2.5e-3, 1.25e-3, 0.5, *args, warm_start=r1)
@@ -366,7 +394,7 @@ def test_isolated_warm_start_scales_the_previous_solution(wheel_rail_case):
     for f in ("Fx", "Fy", "Mz"):
         assert getattr(warm, f) == pytest.approx(getattr(cold, f), rel=1e-6)
     # (2) with Coulomb friction the problem is odd: p(-σ) = -p(σ) (s = -1), in partial slip
-    sat = cc.make_solver("exact", mx=16, my=16)
+    sat = cc.make_solver("exact", mx=16, my=16, extrapolate=False)
     r1 = sat.step(1e-3, 5e-4, 0.2, *args)
     assert 0.2 < r1.slip_fraction < 0.9
     cold = sat.step(-1e-3, -5e-4, -0.2, *args)
@@ -380,13 +408,14 @@ def test_isolated_warm_start_scales_the_previous_solution(wheel_rail_case):
 def test_not_converged_warns(wheel_rail_case):
     k = wheel_rail_case
     with pytest.warns(ExactSolverWarning):
-        r = cc.solve("exact", xi=1e-3, eta=0.0, phi=0.0, maxit=2, mx=16, my=16, **k)
+        r = cc.solve("exact", xi=1e-3, eta=0.0, phi=0.0, maxit=2, mx=16, my=16,
+                     extrapolate=False, **k)
     assert not r.converged and r.iterations == 2 and r.residual > 1e-5
 
 
 @pytest.mark.parametrize("opt", [{"mx": 2}, {"my": 1000}, {"mx": 10.5}, {"scale": 1.0},
                                  {"scale": 5}, {"tol": 0}, {"maxit": 0}, {"normal": "fem"},
-                                 {"fields": 1}, {"bogus": 1}])
+                                 {"fields": 1}, {"extrapolate": "yes"}, {"mx": 12}, {"bogus": 1}])
 def test_option_validation(opt):
     with pytest.raises(ValueError, match=next(iter(opt))):
         cc.make_solver("exact", **opt)
@@ -411,7 +440,7 @@ def test_half_grid_equals_full_grid(mx, my):
     # grid's (same sums, weighted), so the results agree to rounding, odd my included
     a, b = _patch(0.5)
     kw = dict(xi=1.2e-3, eta=0.0, phi=0.0, N=1e5, mu=0.3, a=a, b=b, G=G, nu=0.28, mx=mx, my=my,
-              fields=True, effects=("longitudinal", "saturation"))
+              fields=True, effects=("longitudinal", "saturation"), extrapolate=False)
     half = cc.solve("exact", **kw)
     full = cc.solve("exact", **kw, half=False)
     assert half.converged and full.converged and 0 < full.slip_fraction < 1
@@ -428,7 +457,7 @@ def test_half_grid_equals_full_grid(mx, my):
     np.testing.assert_array_equal(hf.py, -hf.py[::-1])
     _check_fields(half, 0.3)
     # warm start from a non-symmetric solution (η != 0) still converges to the same
-    s = cc.make_solver("exact", mx=mx, my=my)
+    s = cc.make_solver("exact", mx=mx, my=my, extrapolate=False)
     prev = s.step(1.2e-3, 3e-4, 0.0, 1e5, 0.3, a, b, G, 0.28)
     warm = s.step(1.2e-3, 0.0, 0.0, 1e5, 0.3, a, b, G, 0.28, warm_start=prev)
     assert warm.Fx == pytest.approx(full.Fx, rel=1e-5) and warm.Fy == 0.0
@@ -439,7 +468,7 @@ def test_secant_warm_start_sequence(wheel_rail_case):
     k = wheel_rail_case
 
     def ramp(predictor):
-        solver = cc.make_solver("exact", mx=24, my=24, predictor=predictor)
+        solver = cc.make_solver("exact", mx=24, my=24, predictor=predictor, extrapolate=False)
         r = solver.step(1.0e-3, 5e-4, 0.2, k["N"], k["mu"], k["a"], k["b"], k["G"], k["nu"])
         its = []
         for i in range(1, 6):
@@ -469,7 +498,8 @@ def test_clear_caches_empties_every_cache():
     gives the same result afterwards."""
     from contact_core.exact import contact_grid, kernel_tables
     a, b = _patch(1.0)
-    kw = dict(xi=1e-3, eta=2e-4, phi=0.1, N=1e5, mu=0.3, a=a, b=b, G=G, nu=0.28, mx=12, my=12)
+    kw = dict(xi=1e-3, eta=2e-4, phi=0.1, N=1e5, mu=0.3, a=a, b=b, G=G, nu=0.28, mx=12, my=12,
+              extrapolate=False)
     before = cc.solve("exact", **kw)
     assert contact_grid.cache_info().currsize > 0 and kernel_tables.cache_info().currsize > 0
     cc.clear_caches()

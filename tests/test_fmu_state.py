@@ -64,7 +64,7 @@ def test_state_restores_parameters_and_mode(fmus):
 def test_exact_warm_start_survives_serialization(fmus):
     """The state holds the exact solver's warm start: the solution and, after a warm-started
     step at the same a/b, the one before it (the secant predictor's)."""
-    start = {"method": "exact", "mx": 12, "my": 12}
+    start = {"method": "exact", "mx": 12, "my": 12, "extrapolate": False}
     with FmuInstance(fmus["full"], "a", start) as a:
         run(a, [INPUTS[0], {**INPUTS[1], "N": INPUTS[0]["N"]}])
         blob = a.fmu.serializeFMUstate(a.fmu.getFMUstate())
@@ -134,7 +134,7 @@ def _envelope_raw(h: bytes, data: bytes) -> bytes:
 
 def test_crafted_and_corrupted_states_are_errors(fmus, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    start = {"method": "exact", "mx": 12, "my": 12}
+    start = {"method": "exact", "mx": 12, "my": 12, "extrapolate": False}
     with FmuInstance(fmus["full"], "a", start) as a:
         run(a, INPUTS[:2])
         good = a.fmu.serializeFMUstate(a.fmu.getFMUstate())

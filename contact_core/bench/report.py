@@ -303,6 +303,7 @@ _STYLE = {  # family -> (colour, marker)
     "fastsim parabolic": ("#2ca02c", "o"),
     "fastsim elliptic": ("#bcbd22", "^"),
     "exact": ("#d62728", "P"),
+    "exact extrapolated": ("#9467bd", "X"),
 }
 
 
@@ -312,7 +313,8 @@ _FAMILY_NAMES = {
     "johnson_vermeulen original": "Johnson–Vermeulen, original",
     "fastsim parabolic": "FASTSIM, parabolic bound (n×n)",
     "fastsim elliptic": "FASTSIM, elliptic bound (n×n)",
-    "exact": "exact (m×m)",
+    "exact": "exact (m×m, one grid)",
+    "exact extrapolated": "exact (m×m and m/2, extrapolated)",
 }
 
 

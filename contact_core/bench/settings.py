@@ -44,14 +44,21 @@ def _fastsim(n: int, bound: str) -> Setting:
 
 
 def _exact(m: int) -> Setting:
-    return Setting(f"exact {m}×{m}", "exact", (("mx", m), ("my", m)))
+    return Setting(f"exact {m}×{m}", "exact", (("mx", m), ("my", m), ("extrapolate", False)))
+
+
+def _exact_extrapolated(m: int) -> Setting:
+    return Setting(f"exact {m}×{m} extrapolated", "exact", (("mx", m), ("my", m)),
+                   family="exact extrapolated")
 
 
 #: FASTSIM and exact grids per form of the benchmark.
 GRIDS: dict[str, dict[str, tuple[int, ...]]] = {
-    "short": {"fastsim": (5, 10, 20, 40), "exact": (12, 16, 24, 32)},
-    "full": {"fastsim": (5, 10, 20, 40, 80), "exact": (12, 16, 24, 32, 48)},
-    "smoke": {"fastsim": (5, 10), "exact": (8, 12)},
+    "short": {"fastsim": (5, 10, 20, 40), "exact": (12, 16, 24, 32),
+              "exact extrapolated": (24, 52)},
+    "full": {"fastsim": (5, 10, 20, 40, 80), "exact": (12, 16, 24, 32, 48),
+             "exact extrapolated": (24, 48, 52)},
+    "smoke": {"fastsim": (5, 10), "exact": (8, 12), "exact extrapolated": (16,)},
 }
 
 
@@ -69,6 +76,7 @@ def default_settings(form: str = "short") -> list[Setting]:
     for bound in ("parabolic", "elliptic"):
         out += [_fastsim(n, bound) for n in g["fastsim"]]
     out += [_exact(m) for m in g["exact"]]
+    out += [_exact_extrapolated(m) for m in g["exact extrapolated"]]
     return out
 
 

@@ -72,6 +72,9 @@ def _solve_pk_fft(mx: int, my: int, dx: float, dy: float, h: np.ndarray, total: 
             delta = 0.0
         else:
             delta = 1.0
+        if not p.sum() > 0.0:       # the step emptied the contact (tiny grids): keep the last
+            p = p_old
+            break
         p *= total / p.sum()
         err = float(np.abs(p - p_old).sum()) / total
         if err < tol:
@@ -222,6 +225,10 @@ def _solve_pk_dense(At, w, h, total, tol, maxit, p):
         s = 0.0
         for c in range(n):
             s += w[c] * p[c]
+        if not s > 0.0:             # the step emptied the contact (tiny grids): keep the last
+            for c in range(n):
+                p[c] = p_old[c]
+            break
         f = total / s
         e = 0.0
         for c in range(n):
