@@ -11,10 +11,11 @@ from .fastsim import Fastsim
 from .johnson_vermeulen import JohnsonVermeulen
 from .linear import LinearTheory
 from .result import ContactResult
+from .table import Table
 
 #: Registered methods, cheapest to dearest.
 METHODS: dict[str, type[ContactMethod]] = {
-    cls.name: cls for cls in (LinearTheory, JohnsonVermeulen, Fastsim, Exact)
+    cls.name: cls for cls in (LinearTheory, JohnsonVermeulen, Fastsim, Table, Exact)
 }
 
 _solvers: dict[tuple, ContactMethod] = {}  # see contact_core.cache: emptied when full

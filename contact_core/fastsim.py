@@ -38,13 +38,13 @@ Option ``flexibility``:
     dp_x/dx = ξ/L1 - φy/L3, dp_y/dx = η/L2 + φx/L3, so every linear term of Kalker's linear theory
     (C11 ξ, C22 η, C23 φ) is reproduced at once, also for combined creepage. In the slip zone the
     stick predictor p_H is brought onto the traction bound along the slip of a bed with the
-    flexibility tensor diag(Lx, Ly) (Kalker 1979, eq 34, u = L p, with a diagonal L): the slip over a step is S = Lx,y (p - p_H) per component and
-    p = -g S/|S|, i.e. p_i = p_H,i t L_i/(1 + t L_i) with the one t > 0 that puts |p| on g
-    (Newton's method). Lx, Ly weight L1, L2 with L3 by the shares of creepage and spin,
-    Lx = (L1|ξ| + L3 c|φ|)/(|ξ| + c|φ|), Ly = (L2|η| + L3 c|φ|)/(|η| + c|φ|), so that with
-    L1 = L2 = L3 this is FASTSIM's radial projection, and in full sliding under (ξ, η) the force
-    is opposite to the creepage (μN at the angle of (ξ, η) as the creepage grows; a radial
-    projection would keep the angle of (ξ/L1, η/L2) instead).
+    flexibility tensor diag(Lx, Ly) (Kalker 1979, eq 34, u = L p, with a diagonal L): the slip
+    over a step is S = diag(Lx, Ly) (p - p_H) and p = -g S/|S|, i.e. p_i = p_H,i t L_i/(1 + t L_i)
+    with the one t > 0 that puts |p| on g (Newton's method). Lx, Ly weight L1, L2 with L3 by the
+    shares of creepage and spin, Lx = (L1|ξ| + L3 c|φ|)/(|ξ| + c|φ|), Ly = (L2|η| + L3 c|φ|)/(|η| +
+    c|φ|), so that with L1 = L2 = L3 this is FASTSIM's radial projection, and in full sliding under
+    (ξ, η) the force is opposite to the creepage (μN at the angle of (ξ, η) as the creepage grows;
+    a radial projection would keep the angle of (ξ/L1, η/L2) instead).
 ``"weighted"`` — Kalker 1982's single flexibility for all directions (Kalker 1979, sec. 5)
 
     L = (L1 |ξ| + L2 |η| + L3 c |φ|) / √(ξ² + η² + c² φ²),   c = √(ab),
@@ -83,9 +83,9 @@ linear theory).
     leading edge), then full steps. In full stick the traction is exactly linear (ξ, η) or
     quadratic (φ) in x, so the only discretisation errors are the midpoint rules in x and y: the
     force converges as O(n⁻²) to linear theory (exactly 1/(2n²) for pure ξ; tests check the order).
-``"kalker"`` (default) — Kalker's original FASTSIM discretisation as implemented in CONTACT (Kalker 1982,
-    Vehicle System Dynamics 11, 1-13; CONTACT, E. A. H. Vollebregt & J. J. Kalker, open source):
-    full steps Δx_j from the leading edge, tractions at the element centres. The first step
+``"kalker"`` (default) — Kalker's original FASTSIM discretisation as implemented in CONTACT
+    (Kalker 1982, Vehicle System Dynamics 11, 1-13; CONTACT, E. A. H. Vollebregt & J. J. Kalker,
+    open source): full steps Δx_j from the leading edge, tractions at the element centres. The first step
     overshoots the distance to the first centre by Δx_j/2, i.e. the march behaves as if the
     leading edge were half an element ahead of a_j; in stick every traction is too large by that
     much, so for pure ξ or η without saturation the force is (1 + 1/nx) times the converged value
@@ -167,8 +167,10 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2:
     """FASTSIM strip march (Kalker 1979, eq 38) on the strip grid (module docstring).
 
     Arguments in SI units: semi-axes ``a, b`` (m), creepages ``xi, eta`` (-), spin ``phi`` (1/m),
-    ``k1, k2, k3`` = 1/L1, 1/L2, 1/L3 (Pa/m; the flexibilities of ξ, η and φ), ``g0`` = peak of the traction bound μ p_n (Pa, incl. the discrete load
-    normalisation). The traction points are the element centres x_i = a_j - (i + ½) Δx_j,
+    ``k1, k2, k3`` = 1/L1, 1/L2, 1/L3 (Pa/m; the flexibilities of ξ, η and φ), ``r21`` = Ly/Lx
+    (the slip law's flexibilities, module docstring), ``g0`` = peak of the traction bound μ p_n
+    (Pa, incl. the discrete load normalisation). The traction points are the element centres
+    x_i = a_j - (i + ½) Δx_j,
     i = 0..nx-1; ``first`` is the length of the first step (from the leading edge to the first
     centre) as a fraction of Δx_j (``SCHEMES``: 0.5 "midpoint", 1.0 "kalker"), the others are
     Δx_j. Each step of length h ends at its traction point x and integrates the rigid slip over
@@ -252,9 +254,9 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2:
 
 
 def _onto_bound(hx: float, hy: float, g: float, r21: float) -> tuple[float, float]:
-    """The slipping traction from the stick predictor (hx, hy), |(hx, hy)| > g, for the
-    flexibility tensor diag(L1, L2), r21 = L2/L1 (module docstring, "Slip with two
-    flexibilities"): p = (hx t/(1 + t), hy r21 t/(1 + r21 t)) with t > 0 such that |p| = g.
+    """The slipping traction from the stick predictor (hx, hy), |(hx, hy)| > g, for the slip
+    law's flexibility tensor diag(Lx, Ly), r21 = Ly/Lx (module docstring, flexibility
+    "separate"): p = (hx t/(1 + t), hy r21 t/(1 + r21 t)) with t > 0 such that |p| = g.
     Newton's method on the monotone |p|(t)² - g², started from the isotropic solution."""
     h = math.sqrt(hx * hx + hy * hy)
     t = g / (h - g)                          # exact for r21 = 1
@@ -419,9 +421,10 @@ class Fastsim(ContactMethod):
             l1 = l2 = l3 = (l1 * abs(xi) + l2 * abs(eta) + l3 * cphi) / math.sqrt(
                 xi * xi + eta * eta + cphi * cphi)
         # flexibilities of the slip law along x and y (module docstring)
+        # (as weights in [0, 1]: no underflow to a zero flexibility for denormal inputs)
         ax, ay = abs(xi) + cphi, abs(eta) + cphi
-        lx = (l1 * abs(xi) + l3 * cphi) / ax if ax > 0.0 else l1
-        ly = (l2 * abs(eta) + l3 * cphi) / ay if ay > 0.0 else l2
+        lx = l1 + (l3 - l1) * (cphi / ax) if ax > 0.0 else l1
+        ly = l2 + (l3 - l2) * (cphi / ay) if ay > 0.0 else l2
         g0 = mu * N * self._g_factor / (a * b)
         nx, ny = self._nx, self._ny
         out = np.empty((7, ny, nx)) if self._fields else None

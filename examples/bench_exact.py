@@ -112,7 +112,8 @@ def _replay(rows: np.ndarray, mx: int, my: int) -> dict:
     out = {}
     for warm in (False, True):
         ev = cc.WheelRailEvaluator(cc.WheelRailConfig(method="exact",
-                                                      options={"mx": mx, "my": my}))
+                                                      options={"mx": mx, "my": my,
+                                                               "extrapolate": False}))
         t, its = 0.0, 0
         for xi, eta, phi, n, _, _ in rows:
             if not warm:
@@ -198,8 +199,9 @@ def _first_order_sweeps(rows: np.ndarray, mx: int, my: int) -> float:
     previous step's solution (solved to 1e-12, with its stick/slip partition)."""
     cfg = cc.WheelRailConfig()                      # the replay's evaluator's material
     G_, nu_, mu_ = shear_modulus(cfg.E, cfg.nu), cfg.nu, cfg.mu
-    tight = cc.make_solver("exact", mx=mx, my=my, tol=1e-12, maxit=100000, fields=True)
-    solver = cc.make_solver("exact", mx=mx, my=my)
+    tight = cc.make_solver("exact", mx=mx, my=my, tol=1e-12, maxit=100000, fields=True,
+                           extrapolate=False)
+    solver = cc.make_solver("exact", mx=mx, my=my, extrapolate=False)
     bound = None
     prev, its = None, []
     for xi, eta, phi, n, a, b in rows:
@@ -254,14 +256,16 @@ def replay_table() -> None:
 
 def main() -> int:
     t = time.perf_counter()
-    cc.solve("exact", xi=1e-3, eta=1e-4, phi=0.1, N=N, mu=MU, a=A, b=B, G=G, nu=NU, mx=8, my=8)
+    cc.solve("exact", xi=1e-3, eta=1e-4, phi=0.1, N=N, mu=MU, a=A, b=B, G=G, nu=NU, mx=8, my=8,
+             extrapolate=False)
     print(f"first call (numba compile or cache load, influence tables): "
           f"{(time.perf_counter() - t) * 1e3:.0f} ms")
     rows, warm = [], []
     for mx, my in ((20, 20), (32, 32), (48, 44)):
-        solver = cc.make_solver("exact", mx=mx, my=my)
+        solver = cc.make_solver("exact", mx=mx, my=my, extrapolate=False)
         solvers = {"secant": solver, "scale": cc.make_solver("exact", mx=mx, my=my,
-                                                            predictor="scale")}
+                                                              extrapolate=False,
+                                                              predictor="scale")}
         repeat = 15 if mx <= 32 else 7
         for name, (xi, eta, phi) in CASES.items():
             args = (xi, eta, phi, N, MU, A, B, G, NU)
@@ -317,7 +321,7 @@ def main() -> int:
         repeat = 15 if mx <= 32 else 7
         out = []
         for half in (False, True):
-            solver = cc.make_solver("exact", mx=mx, my=my, half=half,
+            solver = cc.make_solver("exact", mx=mx, my=my, half=half, extrapolate=False,
                                     effects=("longitudinal", "saturation"))
             solver.step(*args)
             out.append(_best(lambda: solver.step(*args), repeat))

@@ -32,7 +32,7 @@ from wheel_rail_fmu.host import FmuInstance
 ROOT = Path(__file__).resolve().parents[1]
 
 #: Small grids for the discretised methods (per-option overrides, applied if the method has them).
-SMALL_OPTIONS = {"nx": 10, "ny": 10, "mx": 10, "my": 10}
+SMALL_OPTIONS = {"nx": 10, "ny": 10, "mx": 10, "my": 10, "extrapolate": False}
 
 
 def build_trivial(out: Path) -> Path:

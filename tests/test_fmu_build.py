@@ -174,7 +174,7 @@ def test_readme_build_commands_run_as_written(tmp_path):
     assert script != block
     subprocess.run(["bash", "-e", "-c", script], cwd=tmp_path, check=True, capture_output=True)
     made = sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*.fmu"))
-    assert made == ["dist/WheelRailContact_full_johnson_vermeulen.fmu",
+    assert made == ["dist/WheelRailContact_full_table.fmu",
                     "dist/WheelRailContact_traction_exact.fmu",
                     "dist/WheelRailContact_wet_curve_fastsim.fmu", "fmus/TractionWet.fmu"]
     start = {v.name: v.start for v in

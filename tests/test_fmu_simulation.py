@@ -179,7 +179,7 @@ INVALID = [("traction", "mu", -0.1, "mu=-0.1 is out of range: allowed 0 <= mu"),
            ("full", "R_wheel_profile", -0.1, "allowed 0 < B"),
            ("full", "R_rail_profile", math.nan, "R_rail_profile=nan is out of range"),
            ("full", "method", "jv", "method='jv' is unknown: allowed ['linear'"),
-           ("full", "variant", "nope", "variant='nope' is invalid: allowed"),
+           ("traction", "variant", "nope", "variant='nope' is invalid: allowed"),
            ("full", "invalid_input", "ignore", "invalid_input='ignore' is invalid: allowed")]
 #: A valid value of each parameter above.
 VALID = {"mu": 0.3, "E": 2e11, "nu": 0.3, "R_wheel": 0.5, "R_wheel_profile": 0.0,
@@ -232,7 +232,8 @@ def test_misuse_is_an_error(fmus):
         assert status_of(inst.fmu.enterInitializationMode) == ERROR
         assert inst.counts[FATAL] == 0
         inst.step(**INPUTS[0])  # none of it harmed the instance
-        assert_rel(outputs(inst), reference("johnson_vermeulen", **INPUTS[0])[1])
+        assert_rel(outputs(inst), reference(cc.load_scene("full").default_method,
+                                            **INPUTS[0])[1])
 
 
 # ---------------------------------------------------------------------------------------------

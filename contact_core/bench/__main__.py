@@ -26,7 +26,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--full", action="store_true", help="the full sweep (default: the short form)")
     p.add_argument("--form", default=None, help=argparse.SUPPRESS)  # short/full/smoke
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                   help="processes for the reference sweep (default: all cores)")
+                   help="Dask LocalCluster processes for the reference sweep (default: all cores)")
+    p.add_argument("--scheduler", default=None,
+                   help="address of a Dask scheduler to run the reference sweep on instead")
     p.add_argument("--out", default="out", help="output folder (default: out)")
     p.add_argument("--docs", default=None, help="also copy the table and plot here (e.g. docs)")
     p.add_argument("--no-fmu", action="store_true", help="skip the FMU timing")
@@ -38,8 +40,8 @@ def main(argv: list[str] | None = None) -> int:
     a = p.parse_args(argv)
     form = a.form or ("full" if a.full else "short")
     cli = " ".join(["", *(argv if argv is not None else sys.argv[1:])])
-    run(form, jobs=max(1, a.jobs), fmu=not a.no_fmu, repeats=a.repeats, out=a.out, docs=a.docs,
-        build_dir=a.build_dir, progress=not a.no_progress, cli=cli.rstrip())
+    run(form, jobs=max(1, a.jobs), scheduler=a.scheduler, fmu=not a.no_fmu, repeats=a.repeats,
+        out=a.out, docs=a.docs, build_dir=a.build_dir, progress=not a.no_progress, cli=cli.rstrip())
     return 0
 
 

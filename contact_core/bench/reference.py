@@ -1,9 +1,9 @@
 """The converged reference: the exact solver on a sequence of fine grids, extrapolated to h → 0.
 
 Per case the exact solver (:mod:`contact_core.exact`, ``normal="numerical"``, default tolerance,
-one grid each: ``extrapolate=False``) runs on square element counts ``m × m`` for every ``m`` of ``grids`` (short form 40, 48, 64, 80;
-full form 40, 48, 64, 80, 96). Its discretisation error is first order in the element size,
-q(m) ≈ q∞ + C/m, overlaid with an irregular part of about 0.05–0.2 % of μN where the stick/slip
+one grid each: ``extrapolate=False``) runs on square element counts ``m × m`` for every ``m`` of
+``grids`` (short form 40, 48, 64, 80; full form 40, 48, 64, 80, 96). Its discretisation error
+is first order in the element size, q(m) ≈ q∞ + C/m, overlaid with an irregular part of about 0.05–0.2 % of μN where the stick/slip
 boundary crosses elements (spin cases mostly). Measured while designing this module (|F|/μN on
 m = 48, 64, 96, 128): a/b = 1, η, τ = 0.28: 0.25734, 0.25625, 0.25509, 0.25451, i.e. slopes in
 1/m of 0.209, 0.223, 0.223 (first order); a/b = 5, ξ, τ = 0.96: slopes 0.56, 0.45, 0.51 (first
@@ -23,22 +23,24 @@ quantity q ∈ {|F|, Mz}:
   and excluded from the statistics, never silently used.
 
 Work is split into (case, grid) tasks submitted to any ``concurrent.futures.Executor``-like object
-(``submit`` returning futures usable with ``concurrent.futures.as_completed``): a
-``ProcessPoolExecutor`` by default (``jobs``), or e.g. a Dask ``Client.get_executor()`` for sweeps
-that outgrow one machine. Progress is shown with tqdm.
+(``submit`` returning futures usable with ``concurrent.futures.as_completed``): by default a Dask
+``distributed`` LocalCluster of ``jobs`` processes, or an existing Dask cluster (``scheduler``)
+for sweeps that outgrow one machine (:mod:`contact_core.sweep`). Progress is shown with tqdm.
 """
 from __future__ import annotations
 
 import math
 import time
 import warnings
-from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, Future, as_completed
+from contextlib import ExitStack
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 from scipy import stats
 
+from .. import sweep
 from .cases import Case
 
 #: Reference grids (m × m elements) per form of the benchmark.
@@ -152,15 +154,15 @@ def _build(cases: Sequence[Case], grids: tuple[int, ...], sols: Sequence[dict[in
 
 def compute_references(cases: Sequence[Case], grids: Iterable[int] = REFERENCE_GRIDS["short"], *,
                        executor: Executor | None = None, jobs: int = 1,
-                       tol_force: float = TOL_FORCE, tol_moment: float = TOL_MOMENT,
-                       progress: bool = True,
+                       scheduler: str | None = None, tol_force: float = TOL_FORCE,
+                       tol_moment: float = TOL_MOMENT, progress: bool = True,
                        solve_task: Callable[..., tuple] = _solve_exact) -> list[Reference]:
     """The reference of every case (same order as ``cases``); see the module docstring.
 
     ``executor``: any object with ``submit`` whose futures work with
-    ``concurrent.futures.as_completed`` (e.g. ``ProcessPoolExecutor``, Dask's
-    ``Client.get_executor()``); if None, a ``ProcessPoolExecutor(jobs)`` for ``jobs > 1``, else
-    the tasks run inline.
+    ``concurrent.futures.as_completed``; if None, Dask (:func:`contact_core.sweep.executor`: a
+    LocalCluster of ``jobs`` processes, or the cluster at ``scheduler``) when ``jobs > 1`` or a
+    scheduler is given, else the tasks run inline.
     """
     from tqdm.auto import tqdm
 
@@ -168,10 +170,10 @@ def compute_references(cases: Sequence[Case], grids: Iterable[int] = REFERENCE_G
     if len(grids) < 3:
         raise ValueError(f"grids={grids}: need at least 3 grids for the extrapolation and its "
                          "uncertainty")
-    own = None
-    if executor is None:
-        executor = own = ProcessPoolExecutor(jobs) if jobs > 1 else _Inline()
-    try:
+    with ExitStack() as stack:
+        if executor is None:
+            executor = (stack.enter_context(sweep.executor(scheduler, jobs))
+                        if jobs > 1 or scheduler is not None else _Inline())
         # Dearest tasks first (finest grids): better load balance at the end of the sweep.
         order = [(m, i) for m in reversed(grids) for i in range(len(cases))]
         futures = {executor.submit(solve_task, cases[i].solve_kwargs(), m): (i, m)
@@ -183,9 +185,6 @@ def compute_references(cases: Sequence[Case], grids: Iterable[int] = REFERENCE_G
                 i, m = futures[fut]
                 sols[i][m] = fut.result()
                 bar.update()
-    finally:
-        if own is not None:
-            own.shutdown()
     return _build(cases, grids, sols, tol_force, tol_moment)
 
 

@@ -304,6 +304,7 @@ _STYLE = {  # family -> (colour, marker)
     "fastsim elliptic": ("#bcbd22", "^"),
     "exact": ("#d62728", "P"),
     "exact extrapolated": ("#9467bd", "X"),
+    "table": ("#ff7f0e", "*"),
 }
 
 
@@ -315,6 +316,7 @@ _FAMILY_NAMES = {
     "fastsim elliptic": "FASTSIM, elliptic bound (n×n)",
     "exact": "exact (m×m, one grid)",
     "exact extrapolated": "exact (m×m and m/2, extrapolated)",
+    "table": "table (exact theory tabulated)",
 }
 
 

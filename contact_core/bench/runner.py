@@ -57,15 +57,16 @@ def _machine() -> str:
 def run(form: str = "short", *, cases: Sequence[Case] | None = None,
         settings: Sequence[Setting] | None = None, extra_settings: Sequence[Setting] = (),
         ref_grids: Sequence[int] | None = None, jobs: int = 1, executor: Executor | None = None,
-        fmu: bool = True, repeats: int | None = None, out: str | Path | None = "out",
-        docs: str | Path | None = None, build_dir: str | Path = "build/bench_fmu",
-        tol_force: float = TOL_FORCE, tol_moment: float = TOL_MOMENT, progress: bool = True,
+        scheduler: str | None = None, fmu: bool = True, repeats: int | None = None,
+        out: str | Path | None = "out", docs: str | Path | None = None,
+        build_dir: str | Path = "build/bench_fmu", tol_force: float = TOL_FORCE,
+        tol_moment: float = TOL_MOMENT, progress: bool = True,
         log: Callable[[str], Any] = print, cli: str = "") -> BenchResult:
     """Run the benchmark and write ``out/accuracy_vs_time.{md,png}`` (and copies in ``docs``).
 
     ``cases``/``settings`` default to the ``form``'s (``short``, ``full``, ``smoke``);
     ``extra_settings`` are appended (e.g. a perturbed copy of a method, see :class:`Setting`).
-    ``jobs``/``executor``: parallelism of the reference sweep (see
+    ``jobs``/``scheduler``/``executor``: parallelism of the reference sweep (see
     :func:`~contact_core.bench.reference.compute_references`). ``out=None``: write nothing.
     """
     t_start = time.perf_counter()
@@ -79,8 +80,8 @@ def run(form: str = "short", *, cases: Sequence[Case] | None = None,
     log(f"settings: {len(settings)} ({', '.join(s.label for s in settings)})")
 
     t0 = time.perf_counter()
-    refs = compute_references(cases, grids, executor=executor, jobs=jobs, tol_force=tol_force,
-                              tol_moment=tol_moment, progress=progress)
+    refs = compute_references(cases, grids, executor=executor, jobs=jobs, scheduler=scheduler,
+                              tol_force=tol_force, tol_moment=tol_moment, progress=progress)
     conv = convergence_by_ratio(cases, refs)
     log(f"reference: exact on grids {', '.join(f'{m}x{m}' for m in grids)}, "
         f"{time.perf_counter() - t0:.0f} s wall with jobs={jobs if executor is None else 'executor'}")

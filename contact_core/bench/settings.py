@@ -64,7 +64,8 @@ GRIDS: dict[str, dict[str, tuple[int, ...]]] = {
 
 def default_settings(form: str = "short") -> list[Setting]:
     """linear; Johnson–Vermeulen (both normalisations, Shen–Hedrick–Elkins spin); FASTSIM at
-    several grids with both traction bounds; exact at several grids. Cheapest family first."""
+    several grids with both traction bounds; the table; exact at several grids, on one grid and
+    extrapolated. Cheapest family first."""
     if form not in GRIDS:
         raise ValueError(f"form={form!r} is unknown: allowed {sorted(GRIDS)}")
     g = GRIDS[form]
@@ -75,6 +76,7 @@ def default_settings(form: str = "short") -> list[Setting]:
                    family="johnson_vermeulen original")]
     for bound in ("parabolic", "elliptic"):
         out += [_fastsim(n, bound) for n in g["fastsim"]]
+    out.append(Setting("table", "table"))
     out += [_exact(m) for m in g["exact"]]
     out += [_exact_extrapolated(m) for m in g["exact extrapolated"]]
     return out

@@ -56,17 +56,18 @@ the shift changes Fy(φ) by -G c² C22 φ θ dx, first order in the element size
 
 Extrapolation (option ``extrapolate``, default on): the solve is repeated on the half grid
 (mx/2 × my/2) and the two are combined by Richardson's rule for a first-order error,
-q = q1 + (q1 - q2)/(r - 1), r = √(mx·my/(mx2·my2)) the refinement ratio. Plain grids are not in the asymptotic range: the
-contact area of the discrete normal problem (elements whose centres carry pressure) differs from
-πab by a staircase error of -1.3 .. +3.2 % that jumps with the grid, and the forces follow it (C11
-+3.9 % at 24×24 with +2.7 % area, +1.3 % at 40×40 with +0.5 %). Before extrapolating, each grid is
-therefore mapped to the continuum's area by Kalker's similarity (Kalker 1967 ch. 2; Kalker 1979
-sec. 2: with a/b and ν fixed, F/(μN) and Mz/(μN c) depend on the creepages only through ξ G
-c²/(μN), η G c²/(μN), φ G c³/(μN)): a grid whose contact area is k πab is solved as the ellipse of
-semi-axes √k a, √k b, i.e. with creepages ξ/k, η/k, φ/k^1.5, and its Mz divided by √k. After the
-combination |F| is held to μN and |Mz| to μ ∫ p_n r dA (Coulomb's bounds, which each grid meets but
-a combination need not). The fields and the warm state are the fine grid's; the half grid starts
-cold. Measured on the benchmark's 400 cases (docs/accuracy_vs_time.md) and against Kalker's table
+q = q1 + (q1 - q2)/(r - 1), r = √(mx·my/(mx2·my2)) the refinement ratio. Plain grids are not in the
+asymptotic range: the contact area of the discrete normal problem (elements whose centres carry
+pressure) differs from πab by a staircase error of -1.3 .. +3.2 % that jumps with the grid, and the
+forces follow it (C11 +3.9 % at 24×24 with +2.7 % area, +1.3 % at 40×40 with +0.5 %). Before
+extrapolating, each grid is therefore mapped to the continuum's area by Kalker's similarity (Kalker
+1967 ch. 2; Kalker 1979 sec. 2: with a/b and ν fixed, F/(μN) and Mz/(μN c) depend on the creepages
+only through ξ G c²/(μN), η G c²/(μN), φ G c³/(μN)): a grid whose contact area is k πab is solved
+as the ellipse of semi-axes √k a, √k b, i.e. with creepages ξ/k, η/k, φ/k^1.5, and its Mz divided
+by √k. After the combination |F| is held to μN and |Mz| to μ ∫ p_n r dA (Coulomb's bounds, which
+each grid meets but a combination need not). The fields and the warm state are the fine grid's; the
+half grid starts cold. Measured on the benchmark's 400 cases (docs/accuracy_vs_time.md) and against
+Kalker's table
 at ν = 0.25, a/b 0.1..10 (pure ξ, η):
 
     ==================  ===============  ===================  ========

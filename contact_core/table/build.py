@@ -1,0 +1,162 @@
+"""Building the table: independent exact solves on Dask, resumable, reproducible.
+
+``python -m contact_core.table build [--axes full|small] [--grid M] [--scheduler ADDRESS]
+[--workers N] [--work DIR] [--out DIR]``
+
+One task per ray: a node (a/b, ν, θ, ψ) of the table and all its magnitudes s, solved in order
+of increasing s, each exact solve warm-started from the previous one (neighbouring nodes are then
+a few sweeps each). The exact solver runs at ``M × M`` with ``extrapolate=True`` (grid-
+extrapolated, :mod:`contact_core.exact`). On the pure-spin poles (θ = 0, π) ψ has no meaning:
+one ray is solved and copied.
+
+Tasks run on a Dask ``distributed`` cluster: a ``LocalCluster`` of ``--workers`` processes
+(default: every core) or the existing cluster at ``--scheduler``. Every finished ray is saved at
+once to the work folder (``--work``, default ``build/table_work/<digest of the configuration>``)
+as a numpy file, so an interrupted build resumes where it stopped; a progress bar counts rays.
+When every ray is there the table is assembled and written to ``--out`` (default
+``contact_core/data``) with its metadata (:mod:`.data`): the command, the configuration, its
+digest, the build's wall time and the SHA-256 of the values. Nothing in the build is random: the
+same configuration gives the same table.
+"""
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import math
+import sys
+import time
+import warnings
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import data
+from .grid import Axes, creepages_from_reduced, node_reduced_creepage
+
+#: Axes of the shipped table and of a quick build (tests of the pipeline, trials).
+AXES = {"full": Axes(), "small": Axes(n_ab=4, n_theta=7, n_psi=4, n_s=8)}
+#: The exact solver of the build: M × M elements, extrapolated (module docstring).
+DEFAULT_GRID = 48
+# The canonical problem every node is solved in (similarity: any values would do): c = √(ab),
+# G, μ, and N = G c² so that G c²/(μN) = 1 and the reduced creepages are C·(ξ, η, c φ).
+_C, _G, _MU = 1e-2, 8e10, 1.0
+
+
+def solve_ray(a_over_b: float, nu: float, theta: float, psi: float, s_nodes: list[float],
+              grid: int) -> np.ndarray:
+    """The node values (n_s, 4) of one ray (runs in a worker; see :mod:`.data`)."""
+    from ..api import make_solver
+    from ..coefficients import creep_coefficients
+    b = _C / math.sqrt(a_over_b)
+    a = a_over_b * b
+    N = _G * _C * _C / _MU
+    c11, c22, c23, _ = creep_coefficients(a_over_b, nu)
+    solver = make_solver("exact", mx=grid, my=grid, extrapolate=True)
+    out = np.empty((len(s_nodes), data.N_VALUES))
+    prev = None
+    for k, s in enumerate(s_nodes):
+        u = node_reduced_creepage(theta, psi, s)
+        xi, eta, phi = creepages_from_reduced(u, c11, c22, c23, _C, 1.0)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")          # a non-converged solve fails the build
+            r = solver.step(xi, eta, phi, N, _MU, a, b, _G, nu, warm_start=prev)
+        prev = r
+        norm = float(np.linalg.norm(u))
+        sk = norm / (1.0 + norm)
+        out[k] = (r.Fx / (_MU * N) / sk, r.Fy / (_MU * N) / sk, r.Mz / (_MU * N * _C) / sk,
+                  r.slip_fraction)
+    return out
+
+
+def rays(axes: Axes) -> list[tuple[int, int, int, int]]:
+    """Index (a/b, ν, θ, ψ) of every ray to solve (ψ = 0 only at the poles θ = 0, π)."""
+    out = []
+    for ia in range(axes.n_ab):
+        for inu in range(axes.n_nu):
+            for it in range(axes.n_theta):
+                pole = it in (0, axes.n_theta - 1)
+                for ip in range(1 if pole else axes.n_psi):
+                    out.append((ia, inu, it, ip))
+    return out
+
+
+def config(axes: Axes, grid: int) -> dict[str, Any]:
+    return {"axes": asdict(axes), "exact": {"mx": grid, "my": grid, "extrapolate": True},
+            "canonical": {"c": _C, "G": _G, "mu": _MU}, "format_version": data.FORMAT_VERSION}
+
+
+def digest(cfg: dict[str, Any]) -> str:
+    return hashlib.sha256(json.dumps(cfg, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = None,
+          workers: int | None = None, progress: bool = True, command: str = "") -> Path:
+    """Solve the missing rays on Dask, then assemble and write the table (module docstring)."""
+    from concurrent.futures import as_completed
+
+    from tqdm.auto import tqdm
+
+    from ..sweep import executor
+
+    cfg = config(axes, grid)
+    work.mkdir(parents=True, exist_ok=True)
+    (work / "config.json").write_text(json.dumps(cfg, indent=1) + "\n", encoding="utf-8")
+    ab, nu, th, ps, s = axes.a_over_b(), axes.nu(), axes.theta(), axes.psi(), axes.s()
+    all_rays = rays(axes)
+    todo = [r for r in all_rays if not _ray_file(work, r).is_file()]
+    t0 = time.perf_counter()
+    if todo:
+        with executor(scheduler, workers) as ex:
+            futures = {ex.submit(solve_ray, float(ab[r[0]]), float(nu[r[1]]), float(th[r[2]]),
+                                 float(ps[r[3]]), [float(v) for v in s], grid): r for r in todo}
+            with tqdm(total=len(all_rays), initial=len(all_rays) - len(todo),
+                      desc="table (exact rays)", unit="ray", disable=not progress) as bar:
+                for fut in as_completed(futures):
+                    np.save(_ray_file(work, futures[fut]), fut.result(), allow_pickle=False)
+                    bar.update()
+    values = np.empty(axes.shape + (data.N_VALUES,))
+    for ia, inu, it, ip in all_rays:
+        v = np.load(_ray_file(work, (ia, inu, it, ip)), allow_pickle=False)
+        if it in (0, axes.n_theta - 1):
+            values[ia, inu, it, :] = v
+        else:
+            values[ia, inu, it, ip] = v
+    seconds = time.perf_counter() - t0
+    meta = {"command": command, "config": cfg, "config_digest": digest(cfg),
+            "rays": len(all_rays), "wall_seconds_last_session": round(seconds, 1),
+            "built": time.strftime("%Y-%m-%d")}
+    return data.write(values, axes, meta, out)
+
+
+def _ray_file(work: Path, r: tuple[int, int, int, int]) -> Path:
+    return work / ("ray_%d_%d_%d_%d.npy" % r)
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    p = argparse.ArgumentParser(prog="python -m contact_core.table",
+                                description="Build the exact-theory table (method 'table').")
+    sub = p.add_subparsers(dest="cmd", required=True)
+    b = sub.add_parser("build", help="solve the table's nodes (resumable) and write it")
+    b.add_argument("--axes", choices=sorted(AXES), default="full")
+    b.add_argument("--grid", type=int, default=DEFAULT_GRID,
+                   help=f"exact solver grid, extrapolated (default {DEFAULT_GRID})")
+    b.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a "
+                   "LocalCluster on this machine)")
+    b.add_argument("--workers", type=int, default=None, help="LocalCluster processes")
+    b.add_argument("--work", default=None, help="folder of the finished rays (resume)")
+    b.add_argument("--out", default=None, help="where to write the table (default: the "
+                   "package's data folder)")
+    b.add_argument("--no-progress", action="store_true")
+    a = p.parse_args(argv)
+    axes = AXES[a.axes]
+    cfg = config(axes, a.grid)
+    work = Path(a.work) if a.work else Path("build") / "table_work" / digest(cfg)
+    out = Path(a.out) if a.out else data.data_dir()
+    path = build(axes, a.grid, work, out, a.scheduler, a.workers, not a.no_progress,
+                 command="python -m contact_core.table " + " ".join(argv))
+    print(f"wrote {path} (sha256 {data.sha256(path)})")
+    return 0

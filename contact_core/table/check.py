@@ -1,0 +1,165 @@
+"""``python -m contact_core.table check``: the table against the converged exact theory on a
+held-out random set, and its cost against FASTSIM's, measured in one run.
+
+Cases (seeded, never the table's nodes): a/b log-uniform over the table's range, ν uniform over
+its range, the direction of the reduced creepage u (:mod:`.grid`) uniform on the sphere (every
+sign), |u| log-uniform from 1e-3 (linear range) to 1e2 (full sliding), N and μ log-uniform. The
+reference is the benchmark's (:mod:`contact_core.bench.reference`): the exact solver on square
+grids, each on its own (``extrapolate=False``), fitted to q(m) = q∞ + C/m and taken at m -> ∞.
+Errors: |F| vector error in % of μN, Mz error in % of μN c. Writes a Markdown report.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+import warnings
+from concurrent.futures import as_completed
+from pathlib import Path
+
+import numpy as np
+
+from ..bench.reference import fit_extrapolation
+from .build import AXES
+
+GRIDS = (40, 48, 64, 80)
+_C, _G = 6e-3, 8e10
+
+
+def random_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
+    from ..coefficients import creep_coefficients
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        ab = math.exp(rng.uniform(math.log(axes.ab_lo), math.log(axes.ab_hi)))
+        nu = rng.uniform(axes.nu_lo, axes.nu_hi)
+        d = rng.normal(size=3)
+        d /= np.linalg.norm(d)
+        r = 10.0 ** rng.uniform(-3.0, 2.0)
+        N = 10.0 ** rng.uniform(4.0, 5.3)
+        mu = 10.0 ** rng.uniform(-1.0, -0.3)
+        b = _C / math.sqrt(ab)
+        a = ab * b
+        c11, c22, c23, _ = creep_coefficients(ab, nu)
+        k = _G * _C * _C / (mu * N)
+        u = r * d
+        out.append({"xi": u[0] / (c11 * k), "eta": u[1] / (c22 * k),
+                    "phi": u[2] / (c23 * _C * k), "N": N, "mu": mu, "a": a, "b": b, "G": _G,
+                    "nu": nu})
+    return out
+
+
+def _exact_task(kw: dict[str, float], m: int) -> tuple[float, float, float]:
+    from ..api import solve
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = solve("exact", **kw, mx=m, my=m, extrapolate=False)
+    return r.Fx, r.Fy, r.Mz
+
+
+def references(cases, scheduler=None, workers=None, progress=True) -> np.ndarray:
+    """(Fx, Fy, Mz) extrapolated to zero element size per case (module docstring)."""
+    from tqdm.auto import tqdm
+
+    from ..sweep import executor
+    sols = [dict() for _ in cases]
+    with executor(scheduler, workers) as ex:
+        futs = {ex.submit(_exact_task, kw, m): (i, m) for m in reversed(GRIDS)
+                for i, kw in enumerate(cases)}
+        with tqdm(total=len(futs), desc="reference (exact)", unit="solve",
+                  disable=not progress) as bar:
+            for f in as_completed(futs):
+                i, m = futs[f]
+                sols[i][m] = f.result()
+                bar.update()
+    out = np.empty((len(cases), 3))
+    for i, s in enumerate(sols):
+        for j in range(3):
+            out[i, j] = fit_extrapolation(GRIDS, [s[m][j] for m in GRIDS])[0]
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    import contact_core as cc
+    from . import data
+
+    p = argparse.ArgumentParser(prog="python -m contact_core.table check")
+    p.add_argument("--cases", type=int, default=2000)
+    p.add_argument("--seed", type=int, default=20261123)
+    p.add_argument("--scheduler", default=None)
+    p.add_argument("--workers", type=int, default=None)
+    p.add_argument("--out", default="docs/table_accuracy.md")
+    p.add_argument("--no-progress", action="store_true")
+    p.add_argument("--references-only", action="store_true",
+                   help="compute and keep the references (build/), no table needed yet")
+    a = p.parse_args(argv)
+    cases = random_cases(a.cases, a.seed, AXES["full"])
+    # the references depend on the cases only: kept between runs (data only, numpy)
+    keep = Path("build") / f"table_check_reference_{a.cases}_{a.seed}.npz"
+    if keep.is_file():
+        with np.load(keep, allow_pickle=False) as z:
+            ref, t_ref = z["ref"], float(z["seconds"])
+    else:
+        t0 = time.perf_counter()
+        ref = references(cases, a.scheduler, a.workers, not a.no_progress)
+        t_ref = time.perf_counter() - t0
+        keep.parent.mkdir(parents=True, exist_ok=True)
+        np.savez(keep, ref=ref, seconds=t_ref)
+    if a.references_only:
+        return 0
+    t = data.load()
+    tab = np.array([[r.Fx, r.Fy, r.Mz] for r in (cc.solve("table", **kw) for kw in cases)])
+    fs = np.array([[r.Fx, r.Fy, r.Mz] for r in
+                   (cc.solve("fastsim", **kw, nx=10, ny=10) for kw in cases)])
+    mun = np.array([kw["mu"] * kw["N"] for kw in cases])
+    c = np.array([math.sqrt(kw["a"] * kw["b"]) for kw in cases])
+
+    def errs(res):
+        eF = np.hypot(res[:, 0] - ref[:, 0], res[:, 1] - ref[:, 1]) / mun * 100
+        eM = np.abs(res[:, 2] - ref[:, 2]) / (mun * c) * 100
+        return eF, eM
+
+    # cost per call, both methods in this run (median of 5 passes over 200 cases)
+    def per_call(method, **opt):
+        ts = []
+        sub = cases[:200]
+        for _ in range(5):
+            t1 = time.perf_counter()
+            for kw in sub:
+                cc.solve(method, **kw, **opt)
+            ts.append((time.perf_counter() - t1) / len(sub))
+        return float(np.median(ts)) * 1e6
+
+    cc.solve("table", **cases[0])
+    cc.solve("fastsim", **cases[0], nx=10, ny=10)
+    us_table, us_fs = per_call("table"), per_call("fastsim", nx=10, ny=10)
+    lines = ["# The table against the converged exact theory (held-out set)", "",
+             f"Generated by `python -m contact_core.table check {' '.join(argv or sys.argv[1:])}`"
+             f" on {time.strftime('%Y-%m-%d')}: {a.cases} random cases, seed {a.seed} "
+             f"(`contact_core/table/check.py`), reference: exact on {', '.join(map(str, GRIDS))}"
+             f" grids extrapolated to zero element size ({t_ref:.0f} s). Table built by "
+             f"`{t.meta.get('command', '?')}`.", "",
+             "| method | \\|F\\| error median / p95 / max, % of μN | Mz error median / p95 / "
+             "max, % of μN·c | µs per solve call |", "|---|---:|---:|---:|"]
+    for name, res, us in (("table", tab, us_table), ("FASTSIM 10×10", fs, us_fs)):
+        eF, eM = errs(res)
+        lines.append(f"| {name} | {np.median(eF):.2f} / {np.percentile(eF, 95):.2f} / "
+                     f"{eF.max():.2f} | {np.median(eM):.2f} / {np.percentile(eM, 95):.2f} / "
+                     f"{eM.max():.2f} | {us:.2f} |")
+    eF, eM = errs(tab)
+    worst = np.argsort(eF)[-5:][::-1]
+    lines += ["", f"Table cost / FASTSIM 10×10 cost: {us_table / us_fs:.2f}.", "",
+              "Largest |F| errors of the table:", "",
+              "| a/b | ν | ξ | η | φ (1/m) | μ | N | \\|F\\| err % | Mz err % |",
+              "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for i in worst:
+        kw = cases[i]
+        lines.append(f"| {kw['a'] / kw['b']:.3g} | {kw['nu']:.3f} | {kw['xi']:.3g} | "
+                     f"{kw['eta']:.3g} | {kw['phi']:.3g} | {kw['mu']:.3g} | {kw['N']:.3g} | "
+                     f"{eF[i]:.2f} | {eM[i]:.2f} |")
+    text = "\n".join(lines) + "\n"
+    Path(a.out).parent.mkdir(parents=True, exist_ok=True)
+    Path(a.out).write_text(text, encoding="utf-8")
+    print(text)
+    return 0

@@ -1,0 +1,86 @@
+"""The table's parametrisation: Kalker-reduced creepages on a quarter sphere, and the node axes.
+
+Similarity of the Hertzian problem (Kalker 1967 ch. 2; Kalker 1979 sec. 2): with a/b and ν fixed,
+F/(μN) and Mz/(μN c), c = √(ab), depend only on the creepages scaled by G c²/(μN). Scaled once
+more by Kalker's coefficients (Kalker 1979, eqs 17-18; Kalker 1990, Table E.3), the reduced
+creepages
+
+    u = (C11 ξ, C22 η, C23 c φ) G c² / (μN)
+
+are the linear theory's force contributions in units of μN, so |u| ~ 1 is where saturation sets
+in for every a/b (Johnson–Vermeulen's normalised creepage; ``contact_core.bench.cases``).
+
+Symmetries of the problem (exact theory, tests of ``contact_core.exact``): Fx is odd in ξ and Fy,
+Mz even; (η, φ) -> (-η, -φ) flips Fy and Mz and keeps Fx. So the table covers u_ξ >= 0, u_η >= 0
+(a quarter of the sphere of directions) and the signs are restored afterwards. On it:
+
+* magnitude s = |u| / (1 + |u|) in [0, 1] (s = 1: full sliding);
+* polar angle θ = arccos(u_φ/|u|) in [0, π] (0: pure spin φ > 0, π: φ < 0);
+* azimuth ψ = atan2(u_η, u_ξ) in [0, π/2] (meaningless, and the values equal, at θ = 0, π).
+
+Tabulated: g = (Fx/(μN), Fy/(μN), Mz/(μN c)) / s, smooth in s on [0, 1]: at s -> 0 it tends to
+the linear theory's slopes, at s = 1 to the full-sliding forces. The values f = s g then vanish
+exactly at zero creepage.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Reduced creepage |u| used for the node s = 0 (its g is the linear slope) and s = 1 (full
+#: sliding: the adhesion zone below 1e-6 of the contact).
+R_LINEAR, R_SLIDING = 1e-6, 1e6
+
+
+@dataclass(frozen=True)
+class Axes:
+    """Uniform node axes. ``ab``: ln(a/b) from ``ab_lo`` to ``ab_hi`` (``n_ab`` nodes); ``nu``:
+    Poisson's ratios (``n_nu`` nodes from ``nu_lo`` to ``nu_hi``); θ on [0, π], ψ on [0, π/2],
+    s on [0, 1]."""
+
+    ab_lo: float = 0.1
+    ab_hi: float = 10.0
+    n_ab: int = 9
+    nu_lo: float = 0.25
+    nu_hi: float = 0.30
+    n_nu: int = 2
+    n_theta: int = 25
+    n_psi: int = 13
+    n_s: int = 32
+
+    @property
+    def shape(self) -> tuple[int, int, int, int, int]:
+        return (self.n_ab, self.n_nu, self.n_theta, self.n_psi, self.n_s)
+
+    def a_over_b(self) -> np.ndarray:
+        return np.exp(np.linspace(math.log(self.ab_lo), math.log(self.ab_hi), self.n_ab))
+
+    def nu(self) -> np.ndarray:
+        return np.linspace(self.nu_lo, self.nu_hi, self.n_nu)
+
+    def theta(self) -> np.ndarray:
+        return np.linspace(0.0, math.pi, self.n_theta)
+
+    def psi(self) -> np.ndarray:
+        return np.linspace(0.0, 0.5 * math.pi, self.n_psi)
+
+    def s(self) -> np.ndarray:
+        return np.linspace(0.0, 1.0, self.n_s)
+
+    def to_record(self) -> dict[str, float | int]:
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+def node_reduced_creepage(theta: float, psi: float, s: float) -> np.ndarray:
+    """The reduced creepage u of a node (s = 0 and 1 at |u| = ``R_LINEAR``, ``R_SLIDING``)."""
+    r = R_LINEAR if s <= 0.0 else R_SLIDING if s >= 1.0 else s / (1.0 - s)
+    st = math.sin(theta)
+    return r * np.array([st * math.cos(psi), st * math.sin(psi), math.cos(theta)])
+
+
+def creepages_from_reduced(u: np.ndarray, c11: float, c22: float, c23: float, c: float,
+                           k: float) -> tuple[float, float, float]:
+    """(ξ, η, φ) of the reduced creepage u, k = G c²/(μN)."""
+    return (float(u[0]) / (c11 * k), float(u[1]) / (c22 * k), float(u[2]) / (c23 * c * k))

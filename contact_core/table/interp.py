@@ -1,0 +1,114 @@
+"""The table lookup: one numba kernel from the creepages to the normalised forces.
+
+Interpolation is local and piecewise cubic: on each uniform axis the four nearest nodes with
+Lagrange's weights (one-sided at the ends), tensor product over ln(a/b), θ, ψ and s, linear in ν
+(two nodes). scipy's interpolators (``RegularGridInterpolator``) give the same numbers but cost
+about 100 µs per call in their Python layer; this kernel meets the method's per-call budget (a few
+µs, ``examples/bench_table.py``).
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+
+
+def _weights(x: float, lo: float, h: float, n: int, w: np.ndarray) -> int:
+    """First node and the interpolation weights (in ``w``, 4 slots) at x on a uniform axis of
+    ``n`` nodes from ``lo`` with step ``h``: cubic Lagrange on 4 nodes, linear for n < 4."""
+    t = (x - lo) / h
+    if n < 4:
+        i0 = min(max(int(math.floor(t)), 0), n - 2)
+        p = t - i0
+        w[0] = 1.0 - p
+        w[1] = p
+        w[2] = 0.0
+        w[3] = 0.0
+        return i0
+    i0 = min(max(int(math.floor(t)) - 1, 0), n - 4)
+    p = t - i0
+    w[0] = -(p - 1.0) * (p - 2.0) * (p - 3.0) / 6.0
+    w[1] = p * (p - 2.0) * (p - 3.0) / 2.0
+    w[2] = -p * (p - 1.0) * (p - 3.0) / 2.0
+    w[3] = p * (p - 1.0) * (p - 2.0) / 6.0
+    return i0
+
+
+def _lookup(values: np.ndarray, lo: np.ndarray, h: np.ndarray, u0: float, u1: float, u2: float,
+            log_ab: float, nu: float, out: np.ndarray) -> None:
+    """(Fx/(μN), Fy/(μN), Mz/(μN c), slip fraction) into ``out`` for the reduced creepage
+    (u0, u1, u2) (module :mod:`.grid`), with the symmetries restoring the signs. ``values``: on
+    the nodes (g0, g1, g2, slip fraction), shape (n_ab, n_nu, n_θ, n_ψ, n_s, 4); ``lo``, ``h``:
+    start and step of the five axes."""
+    sx = 1.0
+    if u0 < 0.0:
+        u0 = -u0
+        sx = -1.0
+    sy = 1.0
+    if u1 < 0.0:
+        u1 = -u1
+        u2 = -u2
+        sy = -1.0
+    r = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+    if r == 0.0:
+        out[0] = 0.0
+        out[1] = 0.0
+        out[2] = 0.0
+        out[3] = 0.0
+        return
+    s = r / (1.0 + r)
+    c = u2 / r
+    theta = math.acos(min(1.0, max(-1.0, c)))
+    psi = math.atan2(u1, u0)
+    shape = values.shape
+    wa = np.empty(4)
+    wn = np.empty(4)
+    wt = np.empty(4)
+    wp = np.empty(4)
+    ws = np.empty(4)
+    ia = _weights(log_ab, lo[0], h[0], shape[0], wa)
+    inu = _weights(nu, lo[1], h[1], shape[1], wn)
+    it = _weights(theta, lo[2], h[2], shape[2], wt)
+    ip = _weights(psi, lo[3], h[3], shape[3], wp)
+    js = _weights(s, lo[4], h[4], shape[4], ws)
+    na = 4 if shape[0] >= 4 else 2
+    nn = 4 if shape[1] >= 4 else 2
+    nt = 4 if shape[2] >= 4 else 2
+    npp = 4 if shape[3] >= 4 else 2
+    ns = 4 if shape[4] >= 4 else 2
+    g0 = 0.0
+    g1 = 0.0
+    g2 = 0.0
+    g3 = 0.0
+    for a in range(na):
+        for b in range(nn):
+            wab = wa[a] * wn[b]
+            for t in range(nt):
+                wabt = wab * wt[t]
+                for p in range(npp):
+                    wabtp = wabt * wp[p]
+                    for k in range(ns):
+                        w = wabtp * ws[k]
+                        v = values[ia + a, inu + b, it + t, ip + p, js + k]
+                        g0 += w * v[0]
+                        g1 += w * v[1]
+                        g2 += w * v[2]
+                        g3 += w * v[3]
+    out[0] = sx * s * g0
+    out[1] = sy * s * g1
+    out[2] = sy * s * g2
+    out[3] = min(1.0, max(0.0, g3))
+
+
+_KERNEL: Callable | None = None
+
+
+def kernel() -> Callable:
+    """The numba-compiled :func:`_lookup` (numba imported on first use; cached on disk)."""
+    global _KERNEL, _weights
+    if _KERNEL is None:
+        import numba
+        _weights = numba.njit(cache=True, nogil=True, error_model="numpy")(_weights)
+        _KERNEL = numba.njit(cache=True, nogil=True, error_model="numpy")(_lookup)
+    return _KERNEL
