@@ -14,8 +14,9 @@ the tangential problem is linear: the result is Kalker's linear theory (the exac
 limit), reported as ``"table"``. Unselected outputs are 0.0. Signs as everywhere in contact_core
 (Kalker's convention, ``Fx = -G c² C11 ξ`` for small ξ). The slip fraction is interpolated too.
 
-How the table is built and how accurate it is: ``python -m contact_core.table`` (:mod:`.build`)
-and the table's ``exact_table.json``.
+How the table is built: ``python -m contact_core.table build`` (:mod:`.build`; the table's
+``exact_table.json`` records the command); how accurate it is: ``python -m contact_core.table
+check`` (:mod:`.check`, docs/table_accuracy.md).
 """
 from __future__ import annotations
 
