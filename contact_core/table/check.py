@@ -22,6 +22,7 @@ import numpy as np
 
 from ..bench.reference import fit_extrapolation
 from .build import AXES
+from .grid import creepages_from_reduced
 
 GRIDS = (40, 48, 64, 80)
 _C, _G = 6e-3, 8e10
@@ -42,10 +43,8 @@ def random_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
         b = _C / math.sqrt(ab)
         a = ab * b
         c11, c22, c23, _ = creep_coefficients(ab, nu)
-        k = _G * _C * _C / (mu * N)
-        u = r * d
-        out.append({"xi": u[0] / (c11 * k), "eta": u[1] / (c22 * k),
-                    "phi": u[2] / (c23 * _C * k), "N": N, "mu": mu, "a": a, "b": b, "G": _G,
+        xi, eta, phi = creepages_from_reduced(r * d, c11, c22, c23, _C, _G * _C * _C / (mu * N))
+        out.append({"xi": xi, "eta": eta, "phi": phi, "N": N, "mu": mu, "a": a, "b": b, "G": _G,
                     "nu": nu})
     return out
 
