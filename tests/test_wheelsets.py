@@ -10,7 +10,6 @@ wheel_rail_fmu.build) into a temporary folder. Simulated times are short.
 from __future__ import annotations
 
 import math
-import statistics
 from pathlib import Path
 
 import numpy as np
@@ -280,25 +279,15 @@ def test_traction_follows_law_and_slips_beyond_limit(fmus, method, h):
 
 
 @pytest.mark.parametrize("method,h", [("fastsim", 1e-4), ("exact", 5e-4)])
-def test_scene_fmu_equals_full_fmu_and_is_cheaper(fmus, method, h):
+def test_scene_fmu_equals_full_fmu(fmus, method, h):
     """Driven wheelset on straight track (η = φ = 0): the traction-scene FMU and the full FMU
-    give the same trajectories (1e-9) — the scene only removes work. Timing (FASTSIM): the
-    contact FMUs' CPU time, median of interleaved runs, is lower with the scene FMU."""
-    runs = {"traction": [], "full": []}
-    reps = 5 if method == "fastsim" else 1
+    give the same trajectories (1e-9) — the scene only removes work. What it saves per step is
+    measured by ``examples/bench_fmu.py`` (each scene against ``full``), not asserted here."""
     T = 0.3 if method == "fastsim" else len(LEVELS) * HOLD + 0.12
-    run_driven(fmus, "full", method, h, T=10 * h)       # warm-up: compile, caches
-    run_driven(fmus, "traction", method, h, T=10 * h)
-    for _ in range(reps):
-        for scene in ("traction", "full"):
-            runs[scene].append(run_driven(fmus, scene, method, h, T=T))
-    a, b = runs["traction"][0], runs["full"][0]
+    a = run_driven(fmus, "traction", method, h, T=T)
+    b = run_driven(fmus, "full", method, h, T=T)
     for name in ("wheelset.xi", "wheelset.omega", "contact_L.Fx", "contact_R.Fx"):
         np.testing.assert_allclose(a[name], b[name], rtol=1e-9, atol=1e-12 if "xi" in name else 1e-9)
-    if method == "fastsim":
-        cpu = {s: statistics.median(r.component_time["contact_L"] + r.component_time["contact_R"]
-                                    for r in rs) for s, rs in runs.items()}
-        assert cpu["traction"] < cpu["full"], cpu
 
 
 def test_scene_fmu_without_needed_effect_is_refused(fmus):
