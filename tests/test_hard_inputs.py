@@ -30,8 +30,8 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 #: Every method, the discretised ones on small grids (the properties do not depend on the grid).
 SOLVERS = {"linear": {}, "johnson_vermeulen": {}, "fastsim": {"nx": 10, "ny": 10},
-           "exact": {"mx": 8, "my": 8, "extrapolate": False}}
-SATURATING = ("johnson_vermeulen", "fastsim", "exact")
+           "exact": {"mx": 8, "my": 8, "extrapolate": False}, "table": {}}
+SATURATING = ("johnson_vermeulen", "fastsim", "exact", "table")
 ARGS = ("xi", "eta", "phi", "N", "mu", "a", "b", "G", "nu")
 #: Small slack for rounding in the bound (relative to μN).
 ROUND = 1e-9
@@ -87,7 +87,12 @@ def physical(draw_creepage=st.floats(-1.0, 1.0)):
         c=st.floats(1e-4, 5e-2), G=st.floats(2e10, 1e11), nu=st.floats(0.0, 0.49))
 
 
-def _case(xi, eta, phi, N, mu, ab, c, G, nu):
+def _case(xi, eta, phi, N, mu, ab, c, G, nu, method=None):
+    if method == "table":
+        # a/b and ν mapped into the table's domain (a/b 0.1..10, ν 0.25..0.30; outside it the
+        # table is the exact method, tested as such), monotonically, so no example is lost
+        ab = min(10.0, max(0.1, 0.1 * 100.0 ** (math.log(ab / 0.05) / math.log(400.0))))
+        nu = 0.25 + 0.05 * nu / 0.49
     return dict(xi=xi, eta=eta, phi=phi, N=N, mu=mu, a=c * math.sqrt(ab), b=c / math.sqrt(ab),
                 G=G, nu=nu)
 
@@ -102,7 +107,7 @@ def _sigma_scale(kw):
 @given(**physical())
 def test_physical_inputs_are_bounded_and_oppose_the_slip(method, xi, eta, phi, N, mu, ab, c,
                                                           G, nu):
-    kw = _case(xi, eta, phi, N, mu, ab, c, G, nu)
+    kw = _case(xi, eta, phi, N, mu, ab, c, G, nu, method)
     r = solve(method, **kw)
     forces_ok(method, r, kw)
     if phi == 0.0:  # without spin the force opposes the rigid slip (ξ, η)
@@ -113,7 +118,7 @@ def test_physical_inputs_are_bounded_and_oppose_the_slip(method, xi, eta, phi, N
 @given(**physical())
 def test_symmetries_of_steady_rolling(method, xi, eta, phi, N, mu, ab, c, G, nu):
     """ξ -> -ξ flips Fx only; (η, φ) -> (-η, -φ) flips Fy and Mz only."""
-    kw = _case(xi, eta, phi, N, mu, ab, c, G, nu)
+    kw = _case(xi, eta, phi, N, mu, ab, c, G, nu, method)
     r = solve(method, **kw)
     rx = solve(method, **(kw | dict(xi=-xi)))
     ry = solve(method, **(kw | dict(eta=-eta, phi=-phi)))
@@ -127,8 +132,11 @@ def test_symmetries_of_steady_rolling(method, xi, eta, phi, N, mu, ab, c, G, nu)
 
 #: Agreement with linear theory at σ = 1e-6: closed forms exactly, the discretised methods on
 #: 10×10 (FASTSIM) and 16×16 (exact) within their own discretisation error (measured: exact
-#: 16×16 at most 3.4 % over a/b 0.05..20 and ν 0..0.44; test_api: 6 % at 16-20 elements).
-LINEAR_TOL = {"linear": 1e-9, "johnson_vermeulen": 1e-5, "fastsim": 0.15, "exact": 0.05}
+#: 16×16 at most 3.4 % over a/b 0.05..20 and ν 0..0.44; test_api: 6 % at 16-20 elements), the
+#: table within its nodes' (exact 48×48 extrapolated: C11, C22 -0.2..+1.6 % of Kalker's, as
+#: measured in the docstring of contact_core.exact.solver).
+LINEAR_TOL = {"linear": 1e-9, "johnson_vermeulen": 1e-5, "fastsim": 0.15, "exact": 0.05,
+              "table": 0.02}
 LINEAR_OPTIONS = {**SOLVERS, "exact": {"mx": 16, "my": 16, "extrapolate": False}}
 
 
@@ -136,11 +144,8 @@ LINEAR_OPTIONS = {**SOLVERS, "exact": {"mx": 16, "my": 16, "extrapolate": False}
 @given(**physical(st.floats(-1.0, 1.0)), kind=st.sampled_from(["xi", "eta", "both"]))
 def test_small_creepage_agrees_with_linear_theory(method, xi, eta, phi, N, mu, ab, c, G, nu,
                                                   kind):
-    # FASTSIM's one flexibility for (ξ, η) together (Kalker 1982) is a weighted mean of the
-    # linear theory's two: its linear limit is Kalker's for pure ξ or η only.
-    assume(kind != "both" or method != "fastsim")
     xi, eta = (xi, 0.0) if kind == "xi" else (0.0, eta) if kind == "eta" else (xi, eta)
-    kw = _case(xi, eta, 0.0, N, mu, ab, c, G, nu)
+    kw = _case(xi, eta, 0.0, N, mu, ab, c, G, nu, method)
     size = math.hypot(xi, eta)
     assume(size > 1e-6)
     f = 1e-6 / (size * _sigma_scale(kw))          # normalised creepage 1e-6
@@ -156,7 +161,7 @@ def test_small_creepage_agrees_with_linear_theory(method, xi, eta, phi, N, mu, a
        s1=st.floats(1e-4, 1e4), s2=st.floats(1e-4, 1e4), sign=st.sampled_from([-1.0, 1.0]))
 def test_longitudinal_force_grows_with_xi_up_to_mu_n(method, N, mu, ab, c, nu, s1, s2, sign):
     """|Fx| is monotonic in ξ (pure longitudinal creepage), and at full sliding it is μN."""
-    kw = _case(0.0, 0.0, 0.0, N, mu, ab, c, 8e10, nu)
+    kw = _case(0.0, 0.0, 0.0, N, mu, ab, c, 8e10, nu, method)
     k = _sigma_scale(kw)
     lo, hi = sorted((s1, s2))
     f_lo = solve(method, **(kw | dict(xi=sign * lo / k))).Fx
@@ -173,7 +178,7 @@ def test_full_sliding_reaches_mu_n(method, xi, eta, phi, N, mu, ab, c, G, nu, bi
     """Creepage (ξ, η) beyond any stick zone: |F| = μN, whatever its size, against (ξ, η): along
     it where every element slides in the rigid-slip direction (FASTSIM, exact); Johnson–Vermeulen
     keeps the direction of its linear force, (C11 ξ, C22 η)."""
-    kw = _case(xi, eta, 0.0, N, mu, ab, c, G, nu)
+    kw = _case(xi, eta, 0.0, N, mu, ab, c, G, nu, method)
     size = math.hypot(xi, eta)
     assume(size > 1e-3)
     f = big / (size * _sigma_scale(kw))
@@ -199,7 +204,7 @@ def test_extreme_scales_are_the_physical_problem_scaled(method, xi, eta, phi, N,
     """Hertzian similarity (Kalker 1979 sec. 2): lengths × λ, load × λ² (same pressure), spin
     / λ leave the creepages' effect unchanged, so F × λ² and Mz × λ³ — at scales where the
     SI arithmetic would overflow or underflow, the method must give exactly that."""
-    kw = _case(xi, eta, phi, N, mu, ab, c, G, nu)
+    kw = _case(xi, eta, phi, N, mu, ab, c, G, nu, method)
     big = dict(kw, a=kw["a"] * scale, b=kw["b"] * scale, N=N * scale * scale, phi=phi / scale)
     r = solve(method, **kw)
     expected = max(abs(r.Fx) * scale ** 2, abs(r.Fy) * scale ** 2, mu * N * scale ** 2,

@@ -18,7 +18,7 @@ import pytest
 
 import contact_core as cc
 from contact_core.table import TableDomainWarning, data
-from contact_core.table.build import AXES, build, solve_ray
+from contact_core.table.build import AXES, build, node_options, solve_ray
 from contact_core.table.grid import creepages_from_reduced, node_reduced_creepage
 
 G, N, MU = 8e10, 1e5, 0.3
@@ -33,7 +33,8 @@ def _state(ab: float, nu: float, theta: float, psi: float, s: float) -> dict[str
     a, b = _patch(ab)
     c = math.sqrt(a * b)
     c11, c22, c23, _ = cc.creep_coefficients(ab, nu)
-    xi, eta, phi = creepages_from_reduced(node_reduced_creepage(theta, psi, s), c11, c22, c23,
+    w = data.load().axes.spin_weight(ab)
+    xi, eta, phi = creepages_from_reduced(node_reduced_creepage(theta, psi, s, w), c11, c22, c23,
                                           c, G * c * c / (MU * N))
     return dict(xi=xi, eta=eta, phi=phi, N=N, mu=MU, a=a, b=b, G=G, nu=nu)
 
@@ -62,7 +63,7 @@ def test_random_nodes_equal_the_exact_solver():
         if idx[4] == ax.n_s - 1:
             continue                                    # full sliding: checked below
         tab = cc.solve("table", **kw)
-        ex = cc.solve("exact", **kw, **opts)
+        ex = cc.solve("exact", **kw, **node_options(opts, ax.a_over_b()[idx[0]]))
         c = math.sqrt(kw["a"] * kw["b"])
         assert math.hypot(tab.Fx - ex.Fx, tab.Fy - ex.Fy) < 1e-4 * MU * N, idx
         assert abs(tab.Mz - ex.Mz) < 1e-4 * MU * N * c, idx
@@ -162,5 +163,6 @@ def test_build_pipeline_is_resumable_and_reproducible(tmp_path):
     assert first.read_bytes() == second.read_bytes()
     t = data.load(str(tmp_path / "t2"))
     ray = solve_ray(float(axes.a_over_b()[1]), float(axes.nu()[1]), float(axes.theta()[3]),
-                    float(axes.psi()[2]), [float(v) for v in axes.s()], grid)
+                    float(axes.psi()[2]), [float(v) for v in axes.s()], grid,
+                    axes.spin_weight(float(axes.a_over_b()[1])))
     np.testing.assert_allclose(t.values[1, 1, 3, 2], ray, rtol=1e-9, atol=1e-12)

@@ -149,6 +149,17 @@ def main(argv: list[str] | None = None) -> int:
     eF, eM = errs(tab)
     worst = np.argsort(eF)[-5:][::-1]
     lines += ["", f"Table cost / FASTSIM 10×10 cost: {us_table / us_fs:.2f}.", "",
+              "The table per range of a/b (p95 / max):", "",
+              "| a/b | cases | \\|F\\|, % of μN | Mz, % of μN·c |", "|---|---:|---:|---:|"]
+    ab = np.array([kw["a"] / kw["b"] for kw in cases])
+    edges = np.geomspace(AXES["full"].ab_lo, AXES["full"].ab_hi, 9)
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        m = (ab >= lo) & (ab <= hi)
+        if m.any():
+            lines.append(f"| {lo:.3g}–{hi:.3g} | {int(m.sum())} | {np.percentile(eF[m], 95):.2f}"
+                         f" / {eF[m].max():.2f} | {np.percentile(eM[m], 95):.2f} / "
+                         f"{eM[m].max():.2f} |")
+    lines += ["",
               "Largest |F| errors of the table:", "",
               "| a/b | ν | ξ | η | φ (1/m) | μ | N | \\|F\\| err % | Mz err % |",
               "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]

@@ -19,7 +19,8 @@ import numpy as np
 from ..cache import cached
 from .grid import Axes
 
-FORMAT_VERSION = 1
+#: 2: the spin axis is weighted (``grid.Axes.spin_power``); tables of version 1 are refused.
+FORMAT_VERSION = 2
 NAME = "exact_table"
 #: Values per node: Fx/(μN s), Fy/(μN s), Mz/(μN c s), slip fraction.
 N_VALUES = 4

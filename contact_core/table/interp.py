@@ -35,12 +35,16 @@ def _weights(x: float, lo: float, h: float, n: int, w: np.ndarray) -> int:
     return i0
 
 
-def _lookup(values: np.ndarray, lo: np.ndarray, h: np.ndarray, u0: float, u1: float, u2: float,
-            log_ab: float, nu: float, out: np.ndarray) -> None:
-    """(Fx/(μN), Fy/(μN), Mz/(μN c), slip fraction) into ``out`` for the reduced creepage
-    (u0, u1, u2) (module :mod:`.grid`), with the symmetries restoring the signs. ``values``: on
-    the nodes (g0, g1, g2, slip fraction), shape (n_ab, n_nu, n_θ, n_ψ, n_s, 4); ``lo``, ``h``:
-    start and step of the five axes."""
+def _lookup(values: np.ndarray, w: np.ndarray, u0: float, u1: float, u2: float, log_ab: float,
+            nu: float) -> tuple[float, float, float, float]:
+    """(Fx/(μN), Fy/(μN), Mz/(μN c), slip fraction) at the table coordinates (u0, u1, u2)
+    (module :mod:`.grid`), with the symmetries restoring the signs and |F| <= μN (Coulomb's
+    bound, which interpolation between nodes may cross). ``values``: on the nodes (g0, g1, g2,
+    slip fraction), shape (n_ab, n_nu, n_θ, n_ψ, n_s, 4), C-contiguous; ``w`` (7, 5): rows 5
+    and 6 the start and the step of the five axes (:func:`work_array`), rows 0-4 scratch space.
+    (Few array arguments: each costs numba's dispatcher about 0.1 µs per call.)"""
+    lo = w[5]
+    h = w[6]
     sx = 1.0
     if u0 < 0.0:
         u0 = -u0
@@ -52,53 +56,62 @@ def _lookup(values: np.ndarray, lo: np.ndarray, h: np.ndarray, u0: float, u1: fl
         sy = -1.0
     r = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
     if r == 0.0:
-        out[0] = 0.0
-        out[1] = 0.0
-        out[2] = 0.0
-        out[3] = 0.0
-        return
+        return 0.0, 0.0, 0.0, 0.0
     s = r / (1.0 + r)
-    c = u2 / r
-    theta = math.acos(min(1.0, max(-1.0, c)))
+    theta = math.acos(min(1.0, max(-1.0, u2 / r)))
     psi = math.atan2(u1, u0)
     shape = values.shape
-    wa = np.empty(4)
-    wn = np.empty(4)
-    wt = np.empty(4)
-    wp = np.empty(4)
-    ws = np.empty(4)
-    ia = _weights(log_ab, lo[0], h[0], shape[0], wa)
-    inu = _weights(nu, lo[1], h[1], shape[1], wn)
-    it = _weights(theta, lo[2], h[2], shape[2], wt)
-    ip = _weights(psi, lo[3], h[3], shape[3], wp)
-    js = _weights(s, lo[4], h[4], shape[4], ws)
+    ia = _weights(log_ab, lo[0], h[0], shape[0], w[0])
+    inu = _weights(nu, lo[1], h[1], shape[1], w[1])
+    it = _weights(theta, lo[2], h[2], shape[2], w[2])
+    ip = _weights(psi, lo[3], h[3], shape[3], w[3])
+    js = _weights(s, lo[4], h[4], shape[4], w[4])
     na = 4 if shape[0] >= 4 else 2
     nn = 4 if shape[1] >= 4 else 2
     nt = 4 if shape[2] >= 4 else 2
     npp = 4 if shape[3] >= 4 else 2
     ns = 4 if shape[4] >= 4 else 2
+    flat = values.reshape(-1)            # a view (C-contiguous): plain offsets, no sub-arrays
+    st_s = 4
+    st_p = shape[4] * st_s
+    st_t = shape[3] * st_p
+    st_n = shape[2] * st_t
+    st_a = shape[1] * st_n
     g0 = 0.0
     g1 = 0.0
     g2 = 0.0
     g3 = 0.0
     for a in range(na):
         for b in range(nn):
-            wab = wa[a] * wn[b]
+            wab = w[0, a] * w[1, b]
+            oab = (ia + a) * st_a + (inu + b) * st_n
             for t in range(nt):
-                wabt = wab * wt[t]
+                wabt = wab * w[2, t]
+                oabt = oab + (it + t) * st_t
                 for p in range(npp):
-                    wabtp = wabt * wp[p]
+                    wabtp = wabt * w[3, p]
+                    o = oabt + (ip + p) * st_p + js * st_s
                     for k in range(ns):
-                        w = wabtp * ws[k]
-                        v = values[ia + a, inu + b, it + t, ip + p, js + k]
-                        g0 += w * v[0]
-                        g1 += w * v[1]
-                        g2 += w * v[2]
-                        g3 += w * v[3]
-    out[0] = sx * s * g0
-    out[1] = sy * s * g1
-    out[2] = sy * s * g2
-    out[3] = min(1.0, max(0.0, g3))
+                        wk = wabtp * w[4, k]
+                        g0 += wk * flat[o]
+                        g1 += wk * flat[o + 1]
+                        g2 += wk * flat[o + 2]
+                        g3 += wk * flat[o + 3]
+                        o += st_s
+    fx = sx * s * g0
+    fy = sy * s * g1
+    f = math.sqrt(fx * fx + fy * fy)
+    if f > 1.0:
+        fx /= f
+        fy /= f
+    return fx, fy, sy * s * g2, min(1.0, max(0.0, g3))
+
+
+def work_array(lo: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """The kernel's ``w``: scratch rows and the axes' starts ``lo`` and steps ``h``."""
+    w = np.zeros((7, 5))
+    w[5], w[6] = lo, h
+    return w
 
 
 _KERNEL: Callable | None = None

@@ -4,8 +4,8 @@ The idea is Kalker's USETAB (Kalker 1996, *Book of tables for the Hertzian creep
 the values taken from this package's own exact solver (:mod:`contact_core.exact`) extrapolated to
 the continuum, and with the spin moment. The parametrisation (:mod:`.grid`) uses the similarity
 of the Hertzian problem, so one table serves every load, friction coefficient, size and shear
-modulus; its axes are a/b, ν and the Kalker-reduced creepages (direction and a saturating map of
-the magnitude). The lookup (:mod:`.interp`) is a local cubic interpolation.
+modulus; its axes are a/b, ν and the Kalker-reduced creepages, spin weighted by a function of
+a/b (direction and a saturating map of the magnitude). The lookup (:mod:`.interp`) is a local cubic interpolation.
 
 Domain: a/b and ν inside the table's axes (``data.load().axes``); elsewhere the state is solved
 by the exact method (default options) with a :class:`TableDomainWarning`, and the result's
@@ -24,7 +24,6 @@ import math
 import warnings
 from dataclasses import replace
 
-import numpy as np
 
 from ..base import ContactMethod
 from ..coefficients import creep_coefficients
@@ -32,7 +31,12 @@ from ..exact import Exact
 from ..linear import LinearTheory
 from ..result import make_result
 from . import data
-from .interp import kernel
+from .interp import kernel, work_array
+
+
+#: a/b is accepted within a few ulps outside the axis (a and b rescaled by a common factor give
+#: an a/b that differs in its last digits).
+_EDGE_LO, _EDGE_HI = 1.0 - 1e-12, 1.0 + 1e-12
 
 
 class TableDomainWarning(RuntimeWarning):
@@ -58,38 +62,44 @@ class Table(ContactMethod):
         if folder is not None and not isinstance(folder, str):
             raise ValueError(f"folder={folder!r} is invalid: allowed None or a folder name")
         t = data.load(folder)
-        self._values, self._lo, self._h = t.values, t.lo, t.h
+        self._values = t.values
+        self._work = work_array(t.lo, t.h)
         ax = t.axes
+        self._spin_weight = ax.spin_weight
         self._ab_range = (ax.ab_lo, ax.ab_hi)
         self._nu_range = (ax.nu_lo, ax.nu_hi)
         self._kern = kernel()
-        self._out = np.empty(data.N_VALUES)
+        #: (a/b, ν) -> C11, C22, w C23, ln(a/b)
+        self._scales: dict[tuple[float, float], tuple[float, float, float, float]] = {}
         self._fallback: Exact | None = None
         self._linear = LinearTheory(self.effects) if not self.effects.saturation else None
 
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         ab = a / b
-        if not (self._ab_range[0] <= ab <= self._ab_range[1]
-                and self._nu_range[0] <= nu <= self._nu_range[1]):
+        (ab_lo, ab_hi), (nu_lo, nu_hi) = self._ab_range, self._nu_range
+        if not (ab_lo * _EDGE_LO <= ab <= ab_hi * _EDGE_HI and nu_lo <= nu <= nu_hi):
             return self._outside(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+        ab = min(ab_hi, max(ab_lo, ab))   # a/b on an end of the axis, up to the rounding of a/b
         eff = self.effects
         if self._linear is not None:
             return replace(self._linear.step(xi, eta, phi, N, mu, a, b, G, nu), method=self.name)
-        c11, c22, c23, _ = creep_coefficients(ab, nu)
+        # a/b and ν rarely change in a simulation (a/b of a Hertz patch whose size follows N
+        # takes two or three values in the last digits): their scales are kept.
+        scales = self._scales.get((ab, nu))
+        if scales is None:
+            c11, c22, c23, _ = creep_coefficients(ab, nu)
+            if len(self._scales) >= 64:
+                self._scales.clear()
+            scales = self._scales[ab, nu] = (c11, c22, self._spin_weight(ab) * c23, math.log(ab))
+        s_xi, s_eta, s_phi, log_ab = scales
         c = math.sqrt(a * b)
         k = G * a * b / (mu * N)
-        out = self._out
-        self._kern(self._values, self._lo, self._h, c11 * xi * k, c22 * eta * k,
-                   c23 * c * phi * k, math.log(ab), nu, out)
-        fx, fy = float(out[0]), float(out[1])
-        f = math.hypot(fx, fy)
-        if f > 1.0:            # Coulomb's bound, which interpolation between nodes may cross
-            fx, fy = fx / f, fy / f
+        fx, fy, mz, slip = self._kern(self._values, self._work, s_xi * xi * k, s_eta * eta * k,
+                                      s_phi * c * phi * k, log_ab, nu)
         mun = mu * N
         return make_result(fx * mun if eff.longitudinal else 0.0,
                            fy * mun if eff.lateral else 0.0,
-                           float(out[2]) * mun * c if eff.spin else 0.0, self.name,
-                           float(out[3]))
+                           mz * mun * c if eff.spin else 0.0, self.name, slip)
 
     def _outside(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         warnings.warn(f"table: a/b={a / b:g}, nu={nu:g} outside the table (a/b "
