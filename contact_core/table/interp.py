@@ -35,16 +35,15 @@ def _weights(x: float, lo: float, h: float, n: int, w: np.ndarray) -> int:
     return i0
 
 
-def _lookup(values: np.ndarray, w: np.ndarray, u0: float, u1: float, u2: float, log_ab: float,
-            nu: float) -> tuple[float, float, float, float]:
+def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: float,
+            log_ab: float, nu: float) -> tuple[float, float, float, float]:
     """(Fx/(μN), Fy/(μN), Mz/(μN c), slip fraction) at the table coordinates (u0, u1, u2)
     (module :mod:`.grid`), with the symmetries restoring the signs and |F| <= μN (Coulomb's
     bound, which interpolation between nodes may cross). ``values``: on the nodes (g0, g1, g2,
-    slip fraction), shape (n_ab, n_nu, n_θ, n_ψ, n_s, 4), C-contiguous; ``w`` (7, 5): rows 5
-    and 6 the start and the step of the five axes (:func:`work_array`), rows 0-4 scratch space.
-    (Few array arguments: each costs numba's dispatcher about 0.1 µs per call.)"""
-    lo = w[5]
-    h = w[6]
+    slip fraction), shape (n_ab, n_nu, n_θ, n_ψ, n_s, 4), C-contiguous; ``axes`` (2, 5): the
+    start and the step of the five axes. Nothing is written outside the call (thread-safe)."""
+    lo = axes[0]
+    h = axes[1]
     sx = 1.0
     if u0 < 0.0:
         u0 = -u0
@@ -61,6 +60,7 @@ def _lookup(values: np.ndarray, w: np.ndarray, u0: float, u1: float, u2: float, 
     theta = math.acos(min(1.0, max(-1.0, u2 / r)))
     psi = math.atan2(u1, u0)
     shape = values.shape
+    w = np.empty((5, 4))
     ia = _weights(log_ab, lo[0], h[0], shape[0], w[0])
     inu = _weights(nu, lo[1], h[1], shape[1], w[1])
     it = _weights(theta, lo[2], h[2], shape[2], w[2])
@@ -105,13 +105,6 @@ def _lookup(values: np.ndarray, w: np.ndarray, u0: float, u1: float, u2: float, 
         fx /= f
         fy /= f
     return fx, fy, sy * s * g2, min(1.0, max(0.0, g3))
-
-
-def work_array(lo: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """The kernel's ``w``: scratch rows and the axes' starts ``lo`` and steps ``h``."""
-    w = np.zeros((7, 5))
-    w[5], w[6] = lo, h
-    return w
 
 
 _KERNEL: Callable | None = None

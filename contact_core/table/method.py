@@ -5,7 +5,8 @@ the values taken from this package's own exact solver (:mod:`contact_core.exact`
 the continuum, and with the spin moment. The parametrisation (:mod:`.grid`) uses the similarity
 of the Hertzian problem, so one table serves every load, friction coefficient, size and shear
 modulus; its axes are a/b, ν and the Kalker-reduced creepages, spin weighted by a function of
-a/b (direction and a saturating map of the magnitude). The lookup (:mod:`.interp`) is a local cubic interpolation.
+a/b (direction and a saturating map of the magnitude). The lookup (:mod:`.interp`) is a local
+cubic interpolation.
 
 Domain: a/b and ν inside the table's axes (``data.load().axes``); elsewhere the state is solved
 by the exact method (default options) with a :class:`TableDomainWarning`, and the result's
@@ -24,6 +25,7 @@ import math
 import warnings
 from dataclasses import replace
 
+import numpy as np
 
 from ..base import ContactMethod
 from ..coefficients import creep_coefficients
@@ -31,7 +33,7 @@ from ..exact import Exact
 from ..linear import LinearTheory
 from ..result import make_result
 from . import data
-from .interp import kernel, work_array
+from .interp import kernel
 
 
 #: a/b is accepted within a few ulps outside the axis (a and b rescaled by a common factor give
@@ -63,7 +65,7 @@ class Table(ContactMethod):
             raise ValueError(f"folder={folder!r} is invalid: allowed None or a folder name")
         t = data.load(folder)
         self._values = t.values
-        self._work = work_array(t.lo, t.h)
+        self._axes = np.array([t.lo, t.h])
         ax = t.axes
         self._spin_weight = ax.spin_weight
         self._ab_range = (ax.ab_lo, ax.ab_hi)
@@ -94,7 +96,7 @@ class Table(ContactMethod):
         s_xi, s_eta, s_phi, log_ab = scales
         c = math.sqrt(a * b)
         k = G * a * b / (mu * N)
-        fx, fy, mz, slip = self._kern(self._values, self._work, s_xi * xi * k, s_eta * eta * k,
+        fx, fy, mz, slip = self._kern(self._values, self._axes, s_xi * xi * k, s_eta * eta * k,
                                       s_phi * c * phi * k, log_ab, nu)
         mun = mu * N
         return make_result(fx * mun if eff.longitudinal else 0.0,
