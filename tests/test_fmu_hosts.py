@@ -63,9 +63,9 @@ def test_c_host_without_python_setup(fmus, tmp_path):
 
 def test_libcosim_runs_different_contact_fmus(fmus, other_version, tmp_path):
     """A third-party FMI host with a thread pool: a traction FMU (Johnson–Vermeulen), a curving
-    FMU (its scene's default method, the table) and a traction FMU built from another version of contact_core (linear theory
-    with Fx doubled, see conftest) in one execution, each equal to its own law; then two of them
-    again in a second execution."""
+    FMU (its scene's default method, the table) and a traction FMU built from another version of
+    contact_core (linear theory with Fx doubled, see conftest) in one execution, each equal to
+    its own law; then two of them again in a second execution."""
     inputs = {"xi": 1e-3, "eta": -4e-4, "phi": 0.2, "N": 1e5}
     traction, curving, v2 = run_in_libcosim([fmus["traction"], fmus["curving"], other_version],
                                           inputs)

@@ -2,14 +2,14 @@
 
 Per case the exact solver (:mod:`contact_core.exact`, ``normal="numerical"``, default tolerance,
 one grid each: ``extrapolate=False``) runs on square element counts ``m × m`` for every ``m`` of
-``grids`` (short form 40, 48, 64, 80; full form 40, 48, 64, 80, 96). Its discretisation error
-is first order in the element size, q(m) ≈ q∞ + C/m, overlaid with an irregular part of about 0.05–0.2 % of μN where the stick/slip
-boundary crosses elements (spin cases mostly). Measured while designing this module (|F|/μN on
-m = 48, 64, 96, 128): a/b = 1, η, τ = 0.28: 0.25734, 0.25625, 0.25509, 0.25451, i.e. slopes in
-1/m of 0.209, 0.223, 0.223 (first order); a/b = 5, ξ, τ = 0.96: slopes 0.56, 0.45, 0.51 (first
-order plus scatter); the Mz of a/b = 5 spin τ = 0.59: 1.27, 1.22, 1.21. Grids of 32 and below
-are not yet in that range (slopes about half), so the grids start at 40. Per case and per
-quantity q ∈ {|F|, Mz}:
+``grids`` (short form 40, 48, 64, 80; full form 40, 48, 64, 80, 96). Its discretisation error is
+first order in the element size, q(m) ≈ q∞ + C/m, overlaid with an irregular part of about
+0.05–0.2 % of μN where the stick/slip boundary crosses elements (spin cases mostly). Measured while
+designing this module (|F|/μN on m = 48, 64, 96, 128): a/b = 1, η, τ = 0.28: 0.25734, 0.25625,
+0.25509, 0.25451, i.e. slopes in 1/m of 0.209, 0.223, 0.223 (first order); a/b = 5, ξ, τ = 0.96:
+slopes 0.56, 0.45, 0.51 (first order plus scatter); the Mz of a/b = 5 spin τ = 0.59: 1.27, 1.22,
+1.21. Grids of 32 and below are not yet in that range (slopes about half), so the grids start at
+40. Per case and per quantity q ∈ {|F|, Mz}:
 
 * **reference** q∞: least-squares fit of q(m) = q∞ + C/m over the grids (Richardson
   extrapolation with p = 1; a least-squares fit over a wide range of m rather than the two-grid
@@ -152,39 +152,51 @@ def _build(cases: Sequence[Case], grids: tuple[int, ...], sols: Sequence[dict[in
     return out
 
 
-def compute_references(cases: Sequence[Case], grids: Iterable[int] = REFERENCE_GRIDS["short"], *,
-                       executor: Executor | None = None, jobs: int = 1,
-                       scheduler: str | None = None, tol_force: float = TOL_FORCE,
-                       tol_moment: float = TOL_MOMENT, progress: bool = True,
-                       solve_task: Callable[..., tuple] = _solve_exact) -> list[Reference]:
-    """The reference of every case (same order as ``cases``); see the module docstring.
+def grid_solutions(kwargs: Sequence[dict[str, float]], grids: Sequence[int], *,
+                   executor: Executor | None = None, jobs: int = 1, scheduler: str | None = None,
+                   progress: bool = True, solve_task: Callable[..., tuple] = _solve_exact
+                   ) -> list[dict[int, tuple]]:
+    """``solve_task(kwargs[i], m)`` for every state and grid m, as ``out[i][m]``.
 
     ``executor``: any object with ``submit`` whose futures work with
     ``concurrent.futures.as_completed``; if None, Dask (:func:`contact_core.sweep.executor`: a
     LocalCluster of ``jobs`` processes, or the cluster at ``scheduler``) when ``jobs > 1`` or a
-    scheduler is given, else the tasks run inline.
+    scheduler is given, else the tasks run inline. Also the held-out check of the table
+    (:mod:`contact_core.table.check`).
     """
     from tqdm.auto import tqdm
 
-    grids = tuple(sorted(set(int(m) for m in grids)))
-    if len(grids) < 3:
-        raise ValueError(f"grids={grids}: need at least 3 grids for the extrapolation and its "
-                         "uncertainty")
     with ExitStack() as stack:
         if executor is None:
             executor = (stack.enter_context(sweep.executor(scheduler, jobs))
                         if jobs > 1 or scheduler is not None else _Inline())
         # Dearest tasks first (finest grids): better load balance at the end of the sweep.
-        order = [(m, i) for m in reversed(grids) for i in range(len(cases))]
-        futures = {executor.submit(solve_task, cases[i].solve_kwargs(), m): (i, m)
-                   for m, i in order}
-        sols: list[dict[int, tuple]] = [{} for _ in cases]
+        futures = {executor.submit(solve_task, kwargs[i], m): (i, m)
+                   for m in sorted(grids, reverse=True) for i in range(len(kwargs))}
+        sols: list[dict[int, tuple]] = [{} for _ in kwargs]
         with tqdm(total=len(futures), desc="reference (exact, fine grids)", unit="solve",
                   disable=not progress, leave=False) as bar:
             for fut in as_completed(futures):
                 i, m = futures[fut]
                 sols[i][m] = fut.result()
                 bar.update()
+    return sols
+
+
+def compute_references(cases: Sequence[Case], grids: Iterable[int] = REFERENCE_GRIDS["short"], *,
+                       executor: Executor | None = None, jobs: int = 1,
+                       scheduler: str | None = None, tol_force: float = TOL_FORCE,
+                       tol_moment: float = TOL_MOMENT, progress: bool = True,
+                       solve_task: Callable[..., tuple] = _solve_exact) -> list[Reference]:
+    """The reference of every case (same order as ``cases``); see the module docstring.
+    ``executor``, ``jobs``, ``scheduler``: where the solves run (:func:`grid_solutions`)."""
+    grids = tuple(sorted(set(int(m) for m in grids)))
+    if len(grids) < 3:
+        raise ValueError(f"grids={grids}: need at least 3 grids for the extrapolation and its "
+                         "uncertainty")
+    sols = grid_solutions([c.solve_kwargs() for c in cases], grids, executor=executor,
+                          jobs=jobs, scheduler=scheduler, progress=progress,
+                          solve_task=solve_task)
     return _build(cases, grids, sols, tol_force, tol_moment)
 
 

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from . import data
-from .grid import R_LINEAR, R_SLIDING, Axes, creepages_from_reduced, node_reduced_creepage
+from .grid import Axes, creepages_from_reduced, node_magnitude, node_reduced_creepage
 
 #: Axes of the shipped table and of a quick build (tests of the pipeline, trials).
 AXES = {"full": Axes(), "small": Axes(n_ab=4, n_theta=7, n_psi=4, n_s=8)}
@@ -67,8 +67,8 @@ def solve_ray(a_over_b: float, nu: float, theta: float, psi: float, s_nodes: lis
             warnings.simplefilter("error")          # a non-converged solve fails the build
             r = solver.step(xi, eta, phi, N, _MU, a, b, _G, nu, warm_start=prev)
         prev = r
-        sk = s if 0.0 < s < 1.0 else (R_LINEAR / (1.0 + R_LINEAR) if s <= 0.0
-                                       else R_SLIDING / (1.0 + R_SLIDING))
+        r_node = node_magnitude(s)
+        sk = s if 0.0 < s < 1.0 else r_node / (1.0 + r_node)
         out[k] = (r.Fx / (_MU * N) / sk, r.Fy / (_MU * N) / sk, r.Mz / (_MU * N * _C) / sk,
                   r.slip_fraction)
     return out

@@ -12,15 +12,14 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 import time
-import warnings
-from concurrent.futures import as_completed
 from pathlib import Path
 
 import numpy as np
 
-from ..bench.reference import fit_extrapolation
+from ..bench.reference import fit_extrapolation, grid_solutions
 from .build import AXES
 from .grid import creepages_from_reduced
 
@@ -49,29 +48,10 @@ def random_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
     return out
 
 
-def _exact_task(kw: dict[str, float], m: int) -> tuple[float, float, float]:
-    from ..api import solve
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        r = solve("exact", **kw, mx=m, my=m, extrapolate=False)
-    return r.Fx, r.Fy, r.Mz
-
-
 def references(cases, scheduler=None, workers=None, progress=True) -> np.ndarray:
     """(Fx, Fy, Mz) extrapolated to zero element size per case (module docstring)."""
-    from tqdm.auto import tqdm
-
-    from ..sweep import executor
-    sols = [dict() for _ in cases]
-    with executor(scheduler, workers) as ex:
-        futs = {ex.submit(_exact_task, kw, m): (i, m) for m in reversed(GRIDS)
-                for i, kw in enumerate(cases)}
-        with tqdm(total=len(futs), desc="reference (exact)", unit="solve",
-                  disable=not progress) as bar:
-            for f in as_completed(futs):
-                i, m = futs[f]
-                sols[i][m] = f.result()
-                bar.update()
+    sols = grid_solutions(cases, GRIDS, jobs=workers or os.cpu_count() or 1, scheduler=scheduler,
+                          progress=progress)
     out = np.empty((len(cases), 3))
     for i, s in enumerate(sols):
         for j in range(3):

@@ -92,10 +92,15 @@ class Axes:
         return ((1.0 + a_over_b ** -2) / 2.0) ** (0.5 * self.spin_power)
 
 
+def node_magnitude(s: float) -> float:
+    """|v| of the nodes at s: s/(1 - s), and ``R_LINEAR``, ``R_SLIDING`` at s = 0, 1."""
+    return R_LINEAR if s <= 0.0 else R_SLIDING if s >= 1.0 else s / (1.0 - s)
+
+
 def node_reduced_creepage(theta: float, psi: float, s: float, w: float) -> np.ndarray:
     """The reduced creepage u of a node (θ, ψ, s) of a table of spin weight ``w`` (s = 0 and 1 at
     |v| = ``R_LINEAR``, ``R_SLIDING``)."""
-    r = R_LINEAR if s <= 0.0 else R_SLIDING if s >= 1.0 else s / (1.0 - s)
+    r = node_magnitude(s)
     st = math.sin(theta)
     return r * np.array([st * math.cos(psi), st * math.sin(psi), math.cos(theta) / w])
 
