@@ -1,10 +1,15 @@
-"""The table lookup: one numba kernel from the creepages to the normalised forces.
+"""The table lookup: numba kernels from the creepages to the normalised forces.
 
 Interpolation is local and piecewise cubic: on each uniform axis the four nearest nodes with
 Lagrange's weights (one-sided at the ends), tensor product over ln(a/b), θ, ψ and s, linear in ν
 (two nodes). scipy's ``RegularGridInterpolator`` on the same table costs 0.1-0.8 ms per point
 (measured on this table: cubic 96 µs, linear 770 µs, a loaded 2-core machine), far over the
-method's per-call budget; this kernel costs a few µs (``python -m contact_core.table check``).
+method's per-call budget; these kernels cost about a µs.
+
+Being a tensor product, the interpolation can be done axis by axis in any order. :func:`lookup`
+does all five axes at once (512 nodes); :func:`make_slice` interpolates the whole table at one
+(a/b, ν) into a 3-D slice over (θ, ψ, s), from which :func:`lookup_slice` interpolates the same
+value with 64 nodes. The method uses the slice where (a/b, ν) repeats, as in a simulation.
 """
 from __future__ import annotations
 
@@ -14,36 +19,24 @@ from typing import Callable
 import numpy as np
 
 
-def _weights(x: float, lo: float, h: float, n: int, w: np.ndarray) -> int:
-    """First node and the interpolation weights (in ``w``, 4 slots) at x on a uniform axis of
-    ``n`` nodes from ``lo`` with step ``h``: cubic Lagrange on 4 nodes, linear for n < 4."""
+def _weights(x: float, lo: float, h: float, n: int) -> tuple[int, float, float, float, float]:
+    """First node and the 4 interpolation weights at x on a uniform axis of ``n`` nodes from
+    ``lo`` with step ``h``: cubic Lagrange on 4 nodes, linear (2 nodes) for n < 4."""
     t = (x - lo) / h
     if n < 4:
         i0 = min(max(int(math.floor(t)), 0), n - 2)
         p = t - i0
-        w[0] = 1.0 - p
-        w[1] = p
-        w[2] = 0.0
-        w[3] = 0.0
-        return i0
+        return i0, 1.0 - p, p, 0.0, 0.0
     i0 = min(max(int(math.floor(t)) - 1, 0), n - 4)
     p = t - i0
-    w[0] = -(p - 1.0) * (p - 2.0) * (p - 3.0) / 6.0
-    w[1] = p * (p - 2.0) * (p - 3.0) / 2.0
-    w[2] = -p * (p - 1.0) * (p - 3.0) / 2.0
-    w[3] = p * (p - 1.0) * (p - 2.0) / 6.0
-    return i0
+    return (i0, -(p - 1.0) * (p - 2.0) * (p - 3.0) / 6.0, p * (p - 2.0) * (p - 3.0) / 2.0,
+            -p * (p - 1.0) * (p - 3.0) / 2.0, p * (p - 1.0) * (p - 2.0) / 6.0)
 
 
-def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: float,
-            log_ab: float, nu: float) -> tuple[float, float, float, float]:
-    """(Fx/(μN), Fy/(μN), Mz/(μN c), slip fraction) at the table coordinates (u0, u1, u2)
-    (module :mod:`.grid`), with the symmetries restoring the signs and |F| <= μN (Coulomb's
-    bound, which interpolation between nodes may cross). ``values``: on the nodes (g0, g1, g2,
-    slip fraction), shape (n_ab, n_nu, n_θ, n_ψ, n_s, 4), C-contiguous; ``axes`` (2, 5): the
-    start and the step of the five axes. Nothing is written outside the call (thread-safe)."""
-    lo = axes[0]
-    h = axes[1]
+def _polar(u0: float, u1: float, u2: float) -> tuple[float, float, float, float, float]:
+    """(sx, sy, θ, ψ, s) of the table coordinates (u0, u1, u2) (:mod:`.grid`): the symmetries
+    ξ -> -ξ (sign sx of Fx) and (η, φ) -> -(η, φ) (sign sy of Fy and Mz) bring u into the
+    tabulated quarter u0, u1 >= 0. s = 0 is the origin."""
     sx = 1.0
     if u0 < 0.0:
         u0 = -u0
@@ -55,49 +48,14 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
         sy = -1.0
     r = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
     if r == 0.0:
-        return 0.0, 0.0, 0.0, 0.0
-    s = r / (1.0 + r)
-    theta = math.acos(min(1.0, max(-1.0, u2 / r)))
-    psi = math.atan2(u1, u0)
-    shape = values.shape
-    w = np.empty((5, 4))
-    ia = _weights(log_ab, lo[0], h[0], shape[0], w[0])
-    inu = _weights(nu, lo[1], h[1], shape[1], w[1])
-    it = _weights(theta, lo[2], h[2], shape[2], w[2])
-    ip = _weights(psi, lo[3], h[3], shape[3], w[3])
-    js = _weights(s, lo[4], h[4], shape[4], w[4])
-    na = 4 if shape[0] >= 4 else 2
-    nn = 4 if shape[1] >= 4 else 2
-    nt = 4 if shape[2] >= 4 else 2
-    npp = 4 if shape[3] >= 4 else 2
-    ns = 4 if shape[4] >= 4 else 2
-    flat = values.reshape(-1)            # a view (C-contiguous): plain offsets, no sub-arrays
-    st_s = 4
-    st_p = shape[4] * st_s
-    st_t = shape[3] * st_p
-    st_n = shape[2] * st_t
-    st_a = shape[1] * st_n
-    g0 = 0.0
-    g1 = 0.0
-    g2 = 0.0
-    g3 = 0.0
-    for a in range(na):
-        for b in range(nn):
-            wab = w[0, a] * w[1, b]
-            oab = (ia + a) * st_a + (inu + b) * st_n
-            for t in range(nt):
-                wabt = wab * w[2, t]
-                oabt = oab + (it + t) * st_t
-                for p in range(npp):
-                    wabtp = wabt * w[3, p]
-                    o = oabt + (ip + p) * st_p + js * st_s
-                    for k in range(ns):
-                        wk = wabtp * w[4, k]
-                        g0 += wk * flat[o]
-                        g1 += wk * flat[o + 1]
-                        g2 += wk * flat[o + 2]
-                        g3 += wk * flat[o + 3]
-                        o += st_s
+        return sx, sy, 0.0, 0.0, 0.0
+    return (sx, sy, math.acos(min(1.0, max(-1.0, u2 / r))), math.atan2(u1, u0), r / (1.0 + r))
+
+
+def _finish(sx: float, sy: float, s: float, g0: float, g1: float, g2: float,
+            g3: float) -> tuple[float, float, float, float]:
+    """Signs restored and Coulomb's bound |F| <= μN applied (interpolation between nodes may
+    cross it)."""
     fx = sx * s * g0
     fy = sy * s * g1
     f = math.sqrt(fx * fx + fy * fy)
@@ -107,14 +65,153 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
     return fx, fy, sy * s * g2, min(1.0, max(0.0, g3))
 
 
-_KERNEL: Callable | None = None
+def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: float,
+            log_ab: float, nu: float) -> tuple[float, float, float, float]:
+    """(Fx/(μN), Fy/(μN), Mz/(μN c), slip fraction) at the table coordinates (u0, u1, u2)
+    (module :mod:`.grid`). ``values``: on the nodes (g0, g1, g2, slip fraction), shape
+    (n_ab, n_nu, n_θ, n_ψ, n_s, 4), C-contiguous; ``axes`` (2, 5): the start and the step of the
+    five axes. Nothing is written outside the call (thread-safe).
+
+    Each node of the (θ, ψ, s) stencil is first interpolated at (a/b, ν), then the nodes are
+    summed, each sum in the order of :func:`_make_slice` and :func:`_cube`: the result is the
+    same to the bit as :func:`_lookup_slice` on the slice, whichever path a call takes."""
+    sx, sy, theta, psi, s = _polar(u0, u1, u2)
+    if s == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    lo = axes[0]
+    h = axes[1]
+    shape = values.shape
+    ia, a0, a1, a2, a3 = _weights(log_ab, lo[0], h[0], shape[0])
+    inu, v0, v1, v2, v3 = _weights(nu, lo[1], h[1], shape[1])
+    wa = (a0, a1, a2, a3)
+    wn = (v0, v1, v2, v3)
+    na = 4 if shape[0] >= 4 else 2
+    nn = 4 if shape[1] >= 4 else 2
+    it, wt, ip, wp, js, wk = _stencil(lo, h, shape[2], shape[3], shape[4], theta, psi, s)
+    nt = 4 if shape[2] >= 4 else 2
+    npp = 4 if shape[3] >= 4 else 2
+    ns = 4 if shape[4] >= 4 else 2
+    st_p = shape[4] * 4
+    st_t = shape[3] * st_p
+    st_n = shape[2] * st_t
+    st_a = shape[1] * st_n
+    flat = values.reshape(-1)            # a view (C-contiguous): plain offsets, no sub-arrays
+    g0 = 0.0
+    g1 = 0.0
+    g2 = 0.0
+    g3 = 0.0
+    for t in range(nt):
+        for p in range(npp):
+            wtp = wt[t] * wp[p]
+            for k in range(ns):
+                w = wtp * wk[k]
+                o = (it + t) * st_t + (ip + p) * st_p + (js + k) * 4
+                # the node at (a/b, ν), summed as in _make_slice
+                n0 = 0.0
+                n1 = 0.0
+                n2 = 0.0
+                n3 = 0.0
+                for a in range(na):
+                    for b in range(nn):
+                        wab = wa[a] * wn[b]
+                        q = (ia + a) * st_a + (inu + b) * st_n + o
+                        n0 += wab * flat[q]
+                        n1 += wab * flat[q + 1]
+                        n2 += wab * flat[q + 2]
+                        n3 += wab * flat[q + 3]
+                g0 += w * n0
+                g1 += w * n1
+                g2 += w * n2
+                g3 += w * n3
+    return _finish(sx, sy, s, g0, g1, g2, g3)
 
 
-def kernel() -> Callable:
-    """The numba-compiled :func:`_lookup` (numba imported on first use; cached on disk)."""
-    global _KERNEL, _weights
-    if _KERNEL is None:
+def _stencil(lo: np.ndarray, h: np.ndarray, n_t: int, n_p: int, n_s: int, theta: float,
+             psi: float, s: float) -> tuple:
+    """First nodes and weights on the θ, ψ and s axes (:func:`_weights`)."""
+    it, t0, t1, t2, t3 = _weights(theta, lo[2], h[2], n_t)
+    ip, p0, p1, p2, p3 = _weights(psi, lo[3], h[3], n_p)
+    js, k0, k1, k2, k3 = _weights(s, lo[4], h[4], n_s)
+    return it, (t0, t1, t2, t3), ip, (p0, p1, p2, p3), js, (k0, k1, k2, k3)
+
+
+def _cube(flat: np.ndarray, base: int, n_t: int, n_p: int, n_s: int, it: int, wt: tuple,
+          ip: int, wp: tuple, js: int, wk: tuple) -> tuple[float, float, float, float]:
+    """The cubic interpolation over (θ, ψ, s) of the block (n_θ, n_ψ, n_s, 4) that starts at
+    ``flat[base]``, with the stencil (first nodes and weights) of :func:`_stencil`."""
+    nt = 4 if n_t >= 4 else 2
+    npp = 4 if n_p >= 4 else 2
+    ns = 4 if n_s >= 4 else 2
+    st_p = n_s * 4
+    st_t = n_p * st_p
+    g0 = 0.0
+    g1 = 0.0
+    g2 = 0.0
+    g3 = 0.0
+    for t in range(nt):
+        for p in range(npp):
+            wtp = wt[t] * wp[p]
+            o = base + (it + t) * st_t + (ip + p) * st_p + js * 4
+            for k in range(ns):
+                w = wtp * wk[k]
+                g0 += w * flat[o]
+                g1 += w * flat[o + 1]
+                g2 += w * flat[o + 2]
+                g3 += w * flat[o + 3]
+                o += 4
+    return g0, g1, g2, g3
+
+
+def _make_slice(values: np.ndarray, axes: np.ndarray, log_ab: float, nu: float) -> np.ndarray:
+    """The table interpolated at (ln(a/b), ν) on every (θ, ψ, s) node: shape (n_θ, n_ψ, n_s, 4),
+    the same weights as :func:`_lookup`."""
+    lo = axes[0]
+    h = axes[1]
+    shape = values.shape
+    ia, a0, a1, a2, a3 = _weights(log_ab, lo[0], h[0], shape[0])
+    inu, n0, n1, n2, n3 = _weights(nu, lo[1], h[1], shape[1])
+    wa = (a0, a1, a2, a3)
+    wn = (n0, n1, n2, n3)
+    na = 4 if shape[0] >= 4 else 2
+    nn = 4 if shape[1] >= 4 else 2
+    size = shape[2] * shape[3] * shape[4] * 4
+    st_a = shape[1] * size
+    flat = values.reshape(-1)
+    out = np.zeros(size)
+    for a in range(na):
+        for b in range(nn):
+            w = wa[a] * wn[b]
+            o = (ia + a) * st_a + (inu + b) * size
+            for j in range(size):
+                out[j] += w * flat[o + j]
+    return out.reshape((shape[2], shape[3], shape[4], 4))
+
+
+def _lookup_slice(slab: np.ndarray, axes: np.ndarray, u0: float, u1: float,
+                  u2: float) -> tuple[float, float, float, float]:
+    """:func:`_lookup` from a slice of :func:`_make_slice` (same value, 64 nodes)."""
+    sx, sy, theta, psi, s = _polar(u0, u1, u2)
+    if s == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    shape = slab.shape
+    it, wt, ip, wp, js, wk = _stencil(axes[0], axes[1], shape[0], shape[1], shape[2], theta,
+                                      psi, s)
+    g0, g1, g2, g3 = _cube(slab.reshape(-1), 0, shape[0], shape[1], shape[2], it, wt, ip, wp,
+                           js, wk)
+    return _finish(sx, sy, s, g0, g1, g2, g3)
+
+
+_KERNELS: tuple[Callable, Callable, Callable] | None = None
+
+
+def kernels() -> tuple[Callable, Callable, Callable]:
+    """The numba-compiled (:func:`_lookup`, :func:`_make_slice`, :func:`_lookup_slice`) (numba
+    imported on first use; cached on disk)."""
+    global _KERNELS, _weights, _polar, _finish, _stencil, _cube
+    if _KERNELS is None:
         import numba
-        _weights = numba.njit(cache=True, nogil=True, error_model="numpy")(_weights)
-        _KERNEL = numba.njit(cache=True, nogil=True, error_model="numpy")(_lookup)
-    return _KERNEL
+        jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+        _weights, _polar, _finish = jit(_weights), jit(_polar), jit(_finish)
+        _stencil, _cube = jit(_stencil), jit(_cube)
+        _KERNELS = (jit(_lookup), jit(_make_slice), jit(_lookup_slice))
+    return _KERNELS

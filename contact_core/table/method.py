@@ -33,12 +33,16 @@ from ..exact import Exact
 from ..linear import LinearTheory
 from ..result import make_result
 from . import data
-from .interp import kernel
+from .interp import kernels
 
 
 #: a/b is accepted within a few ulps outside the axis (a and b rescaled by a common factor give
 #: an a/b that differs in its last digits).
 _EDGE_LO, _EDGE_HI = 1.0 - 1e-12, 1.0 + 1e-12
+#: Kept per solver: the scales of at most ``_MAX_PAIRS`` (a/b, ν) pairs (then forgotten), and a
+#: 3-D slice (:func:`.interp.make_slice`, 0.37 MB for the shipped table) for at most
+#: ``_MAX_SLICES`` of them, made at a pair's second call.
+_MAX_PAIRS, _MAX_SLICES = 64, 8
 
 
 class TableDomainWarning(RuntimeWarning):
@@ -70,38 +74,60 @@ class Table(ContactMethod):
         self._spin_weight = ax.spin_weight
         self._ab_range = (ax.ab_lo, ax.ab_hi)
         self._nu_range = (ax.nu_lo, ax.nu_hi)
-        self._kern = kernel()
-        #: (a/b, ν) -> C11, C22, w C23, ln(a/b)
-        self._scales: dict[tuple[float, float], tuple[float, float, float, float]] = {}
+        self._lookup, self._make_slice, self._lookup_slice = kernels()
+        #: (a/b, ν) -> C11, C22, w C23, ln(a/b), slice or None (see ``_MAX_SLICES``)
+        self._pairs: dict[tuple[float, float], tuple] = {}
+        self._slices = 0
+        self._lo_ab, self._hi_ab = ax.ab_lo * _EDGE_LO, ax.ab_hi * _EDGE_HI
         self._fallback: Exact | None = None
         self._linear = LinearTheory(self.effects) if not self.effects.saturation else None
 
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         ab = a / b
-        (ab_lo, ab_hi), (nu_lo, nu_hi) = self._ab_range, self._nu_range
-        if not (ab_lo * _EDGE_LO <= ab <= ab_hi * _EDGE_HI and nu_lo <= nu <= nu_hi):
+        nu_lo, nu_hi = self._nu_range
+        if not (self._lo_ab <= ab <= self._hi_ab and nu_lo <= nu <= nu_hi):
             return self._outside(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
-        ab = min(ab_hi, max(ab_lo, ab))   # a/b on an end of the axis, up to the rounding of a/b
-        eff = self.effects
         if self._linear is not None:
             return replace(self._linear.step(xi, eta, phi, N, mu, a, b, G, nu), method=self.name)
         # a/b and ν rarely change in a simulation (a/b of a Hertz patch whose size follows N
-        # takes two or three values in the last digits): their scales are kept.
-        scales = self._scales.get((ab, nu))
-        if scales is None:
-            c11, c22, c23, _ = creep_coefficients(ab, nu)
-            if len(self._scales) >= 64:
-                self._scales.clear()
-            scales = self._scales[ab, nu] = (c11, c22, self._spin_weight(ab) * c23, math.log(ab))
-        s_xi, s_eta, s_phi, log_ab = scales
+        # takes two or three values in the last digits): their scales and slice are kept.
+        pair = self._pairs.get((ab, nu))
+        if pair is None or pair[4] is None:
+            pair = self._pair(ab, nu, pair)
+        s_xi, s_eta, s_phi, log_ab, slab = pair
         c = math.sqrt(a * b)
         k = G * a * b / (mu * N)
-        fx, fy, mz, slip = self._kern(self._values, self._axes, s_xi * xi * k, s_eta * eta * k,
-                                      s_phi * c * phi * k, log_ab, nu)
+        if slab is None:
+            fx, fy, mz, slip = self._lookup(self._values, self._axes, s_xi * xi * k,
+                                            s_eta * eta * k, s_phi * c * phi * k, log_ab, nu)
+        else:
+            fx, fy, mz, slip = self._lookup_slice(slab, self._axes, s_xi * xi * k,
+                                                  s_eta * eta * k, s_phi * c * phi * k)
         mun = mu * N
+        eff = self.effects
         return make_result(fx * mun if eff.longitudinal else 0.0,
                            fy * mun if eff.lateral else 0.0,
                            mz * mun * c if eff.spin else 0.0, self.name, slip)
+
+    def _pair(self, ab: float, nu: float, known: tuple | None) -> tuple:
+        """The kept data of (a/b, ν) (see ``_MAX_PAIRS``): at the first call its scales, at the
+        second its slice too."""
+        key = (ab, nu)
+        if known is None:
+            if len(self._pairs) >= _MAX_PAIRS:
+                self._pairs.clear()
+                self._slices = 0
+            ab = min(self._ab_range[1], max(self._ab_range[0], ab))   # an end, up to rounding
+            c11, c22, c23, _ = creep_coefficients(ab, nu)
+            known = (c11, c22, self._spin_weight(ab) * c23, math.log(ab), None)
+            self._pairs[key] = known
+            return known
+        if self._slices >= _MAX_SLICES:
+            return known
+        self._slices += 1
+        pair = known[:4] + (self._make_slice(self._values, self._axes, known[3], nu),)
+        self._pairs[key] = pair
+        return pair
 
     def _outside(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         warnings.warn(f"table: a/b={a / b:g}, nu={nu:g} outside the table (a/b "
