@@ -111,6 +111,11 @@ cases, 20×20, separate flexibilities, |F| error p95 / max in % of μN):
     elliptic    midpoint    4.7 / 6.0    4.9 / 5.9    4.4 / 8.5     8.4 / 12.8
     ==========  ==========  ===========  ===========  ============  ===========
 
+For pure spin the limit is simplified theory itself, not the grid: converged (100×100,
+"midpoint") it is 7.8 / 9.3 off with the parabolic bound and 5.3 / 8.3 with the elliptic one on
+the benchmark's 80 pure-spin cases (against the exact solver fitted over 40²…80² grids, measured
+2026-11-24), so no discretisation with L3 from C23 gets below that.
+
 and on CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is within 1.9 %
 of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" within 4.8 % (tests).
 "midpoint" remains the scheme whose FASTSIM solution converges fastest with the grid (O(n⁻²)).

@@ -6,7 +6,7 @@
 One task per ray: a node (a/b, ν, θ, ψ) of the table and all its magnitudes s, solved in order
 of increasing s, each exact solve warm-started from the previous one (neighbouring nodes are then
 a few sweeps each). The exact solver runs at ``M × M`` with ``extrapolate=True`` (grid-
-extrapolated, :mod:`contact_core.exact`), at ``M2 × M2`` for the nodes below a/b = ``FINE_BELOW``.
+extrapolated, :mod:`contact_core.exact`), at ``M2 × M2`` for the nodes outside ``FINE_INSIDE``.
 On the pure-spin poles (θ = 0, π) ψ has no meaning: one ray is solved and copied.
 
 Tasks run on a Dask ``distributed`` cluster: a ``LocalCluster`` of ``--workers`` processes
@@ -39,9 +39,13 @@ from .grid import Axes, creepages_from_reduced, node_magnitude, node_reduced_cre
 #: Axes of the shipped table and of a quick build (tests of the pipeline, trials).
 AXES = {"full": Axes(), "small": Axes(n_ab=4, n_theta=7, n_psi=4, n_s=8)}
 #: The exact solver of the build: M × M elements, extrapolated (module docstring), and the finer
-#: grid of the nodes with a/b below ``FINE_BELOW``: there, with spin, 48×48 extrapolated is 1-2.4 %
-#: of μN off the converged solution, 64×64 0.3-0.8 % (the worst states of the held-out check).
-DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_BELOW = 48, 64, 0.3
+#: grid of the nodes with a/b outside ``FINE_INSIDE``, the ends of the axis, where the square
+#: grid's elements are most elongated. Measured against 96×96 extrapolated on 12 random nodes per
+#: row (|F| / Mz max, % of μN and μN·c): a/b = 0.1: 48×48 0.21 / 0.75, 64×64 0.57 / 1.21 (its
+#: half grid, 32, is short of the first-order range), 80×80 0.18 / 0.43; a/b = 0.178: 0.27 / 0.58,
+#: 0.32 / 0.51, 0.21 / 0.33. Linear range against Kalker's table (Kalker 1990, Table E.3) at
+#: a/b = 10: C22 +1.6 % at 48×48, +0.2 % at 80×80; at a/b = 5.6 +0.9 % at 48×48.
+DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.3, 7.0)
 # The canonical problem every node is solved in (similarity: any values would do): c = √(ab),
 # G, μ, and N = G c² so that G c²/(μN) = 1 and the reduced creepages are C·(ξ, η, c φ).
 _C, _G, _MU = 1e-2, 8e10, 1.0
@@ -90,14 +94,15 @@ def config(axes: Axes, grid: int, fine_grid: int | None = None) -> dict[str, Any
     fine = grid if fine_grid is None else fine_grid
     return {"axes": asdict(axes),
             "exact": {"mx": grid, "my": grid, "extrapolate": True,
-                      "fine_below_a_over_b": FINE_BELOW, "fine_mx": fine, "fine_my": fine},
+                      "coarse_a_over_b": list(FINE_INSIDE), "fine_mx": fine, "fine_my": fine},
             "canonical": {"c": _C, "G": _G, "mu": _MU}, "format_version": data.FORMAT_VERSION}
 
 
 def node_options(exact: dict[str, Any], a_over_b: float) -> dict[str, Any]:
     """The exact solver's options of the nodes at ``a_over_b`` (``exact``: the table's
     ``config["exact"]``)."""
-    fine = a_over_b < exact["fine_below_a_over_b"]
+    lo, hi = exact["coarse_a_over_b"]
+    fine = not lo <= a_over_b <= hi
     return {"mx": exact["fine_mx" if fine else "mx"], "my": exact["fine_my" if fine else "my"],
             "extrapolate": exact["extrapolate"]}
 
@@ -162,7 +167,8 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--grid", type=int, default=DEFAULT_GRID,
                    help=f"exact solver grid, extrapolated (default {DEFAULT_GRID})")
     b.add_argument("--fine-grid", type=int, default=DEFAULT_FINE_GRID,
-                   help=f"the grid below a/b = {FINE_BELOW} (default {DEFAULT_FINE_GRID})")
+                   help=f"the grid outside a/b = {FINE_INSIDE[0]}..{FINE_INSIDE[1]} (default "
+                   f"{DEFAULT_FINE_GRID})")
     b.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a "
                    "LocalCluster on this machine)")
     b.add_argument("--workers", type=int, default=None, help="LocalCluster processes")

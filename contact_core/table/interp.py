@@ -6,10 +6,12 @@ Lagrange's weights (one-sided at the ends), tensor product over ln(a/b), θ, ψ 
 (measured on this table: cubic 96 µs, linear 770 µs, a loaded 2-core machine), far over the
 method's per-call budget; these kernels cost about a µs.
 
-Being a tensor product, the interpolation can be done axis by axis in any order. :func:`lookup`
-does all five axes at once (512 nodes); :func:`make_slice` interpolates the whole table at one
-(a/b, ν) into a 3-D slice over (θ, ψ, s), from which :func:`lookup_slice` interpolates the same
-value with 64 nodes. The method uses the slice where (a/b, ν) repeats, as in a simulation.
+Being a tensor product, the interpolation can be done axis by axis. :func:`_make_slice`
+interpolates the whole table at one (a/b, ν) into a 3-D slice over (θ, ψ, s), from which
+:func:`_lookup_slice` interpolates with 64 nodes; :func:`_lookup` needs no slice: it interpolates
+the 64 nodes of its stencil at (a/b, ν) (512 table values), then over (θ, ψ, s). Both sum in the
+same order, so they give the same result to the bit. The method uses the slice where (a/b, ν)
+repeats, as in a simulation.
 """
 from __future__ import annotations
 
