@@ -24,6 +24,7 @@ import argparse
 import hashlib
 import json
 import math
+import os
 import sys
 import time
 import warnings
@@ -137,7 +138,7 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
             with tqdm(total=len(all_rays), initial=len(all_rays) - len(todo),
                       desc="table (exact rays)", unit="ray", disable=not progress) as bar:
                 for fut in as_completed(futures):
-                    np.save(_ray_file(work, futures[fut]), fut.result(), allow_pickle=False)
+                    _save_ray(_ray_file(work, futures[fut]), fut.result())
                     bar.update()
     values = np.empty(axes.shape + (data.N_VALUES,))
     for ia, inu, it, ip in all_rays:
@@ -155,6 +156,14 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
 
 def _ray_file(work: Path, r: tuple[int, int, int, int]) -> Path:
     return work / ("ray_%d_%d_%d_%d.npy" % r)
+
+
+def _save_ray(path: Path, values: np.ndarray) -> None:
+    """Written under another name, then renamed: a build stopped mid-write leaves no partial ray
+    that a resumed build would take as finished."""
+    tmp = path.with_name(path.stem + ".part.npy")
+    np.save(tmp, values, allow_pickle=False)
+    os.replace(tmp, path)
 
 
 def main(argv: list[str] | None = None) -> int:

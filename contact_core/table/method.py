@@ -6,7 +6,8 @@ the continuum, and with the spin moment. The parametrisation (:mod:`.grid`) uses
 of the Hertzian problem, so one table serves every load, friction coefficient, size and shear
 modulus; its axes are a/b, ν and the Kalker-reduced creepages, spin weighted by a function of
 a/b (direction and a saturating map of the magnitude). The lookup (:mod:`.interp`) is a local
-cubic interpolation.
+cubic interpolation; where a/b and ν repeat (a simulation) it runs on a slice of the table at
+that a/b and ν, with the same result to the bit.
 
 Domain: a/b and ν inside the table's axes (``data.load().axes``); elsewhere the state is solved
 by the exact method (default options) with a :class:`TableDomainWarning`, and the result's
@@ -40,7 +41,7 @@ from .interp import kernels
 #: an a/b that differs in its last digits).
 _EDGE_LO, _EDGE_HI = 1.0 - 1e-12, 1.0 + 1e-12
 #: Kept per solver: the scales of at most ``_MAX_PAIRS`` (a/b, ν) pairs (then forgotten), and a
-#: 3-D slice (:func:`.interp.make_slice`, 0.37 MB for the shipped table) for at most
+#: 3-D slice (:func:`.interp._make_slice`, 0.37 MB for the shipped table) for at most
 #: ``_MAX_SLICES`` of them, made at a pair's second call.
 _MAX_PAIRS, _MAX_SLICES = 64, 8
 
