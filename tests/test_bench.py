@@ -184,3 +184,21 @@ def test_reference_takes_any_executor():
     with ThreadPoolExecutor(2) as ex:
         pooled = compute_references(cases, (12, 16, 20), executor=ex, progress=False)
     assert [(r.F, r.Mz, r.u_F) for r in inline] == [(r.F, r.Mz, r.u_F) for r in pooled]
+
+
+def test_reference_solutions_are_kept_and_reused(tmp_path, monkeypatch):
+    # a rerun with the same cases reuses the kept grid solutions (data only) and gives the same
+    # references; other cases are solved anew
+    from contact_core.bench import reference
+    cases = make_cases("smoke")[:3]
+    first = reference.compute_references(cases, (12, 16, 20), progress=False, cache=tmp_path)
+    assert len(list(tmp_path.glob("reference_*.npz"))) == 1
+
+    def no_solving(*args, **kwargs):
+        raise AssertionError("kept solutions were not reused")
+    monkeypatch.setattr(reference, "grid_solutions", no_solving)
+    again = reference.compute_references(cases, (12, 16, 20), progress=False, cache=tmp_path)
+    assert [(r.F, r.Mz, r.u_F, r.solver_converged) for r in again] == \
+        [(r.F, r.Mz, r.u_F, r.solver_converged) for r in first]
+    with pytest.raises(AssertionError, match="not reused"):
+        reference.compute_references(cases[:2], (12, 16, 20), progress=False, cache=tmp_path)

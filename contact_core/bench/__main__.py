@@ -36,12 +36,16 @@ def main(argv: list[str] | None = None) -> int:
                    help="timing repeats per case (default 3 short, 5 full)")
     p.add_argument("--build-dir", default="build/bench_fmu",
                    help="where the FMU is built and cached (default: build/bench_fmu)")
+    p.add_argument("--reference-cache", default="build/bench_reference",
+                   help="folder where the reference's grid solutions are kept between runs "
+                   "(default: build/bench_reference; 'none': not kept)")
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
     a = p.parse_args(argv)
     form = a.form or ("full" if a.full else "short")
     cli = " ".join(["", *(argv if argv is not None else sys.argv[1:])])
     run(form, jobs=max(1, a.jobs), scheduler=a.scheduler, fmu=not a.no_fmu, repeats=a.repeats,
-        out=a.out, docs=a.docs, build_dir=a.build_dir, progress=not a.no_progress, cli=cli.rstrip())
+        out=a.out, docs=a.docs, build_dir=a.build_dir, progress=not a.no_progress, cli=cli.rstrip(),
+        reference_cache=None if a.reference_cache.lower() == "none" else a.reference_cache)
     return 0
 
 

@@ -26,15 +26,24 @@ Work is split into (case, grid) tasks submitted to any ``concurrent.futures.Exec
 (``submit`` returning futures usable with ``concurrent.futures.as_completed``): by default a Dask
 ``distributed`` LocalCluster of ``jobs`` processes, or an existing Dask cluster (``scheduler``)
 for sweeps that outgrow one machine (:mod:`contact_core.sweep`). Progress is shown with tqdm.
+
+The grid solutions may be kept in a folder (``cache``; the command line's default is
+``build/bench_reference``) as a numpy file (no pickle), named by a digest of the cases, the grids
+and the source of the exact solver and of what it uses: a rerun with the same cases and solver
+reuses them, any change of either computes them anew.
 """
 from __future__ import annotations
 
+import hashlib
+import json
 import math
+import os
 import time
 import warnings
 from concurrent.futures import Executor, Future, as_completed
 from contextlib import ExitStack
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
@@ -187,17 +196,62 @@ def compute_references(cases: Sequence[Case], grids: Iterable[int] = REFERENCE_G
                        executor: Executor | None = None, jobs: int = 1,
                        scheduler: str | None = None, tol_force: float = TOL_FORCE,
                        tol_moment: float = TOL_MOMENT, progress: bool = True,
-                       solve_task: Callable[..., tuple] = _solve_exact) -> list[Reference]:
+                       solve_task: Callable[..., tuple] = _solve_exact,
+                       cache: str | Path | None = None) -> list[Reference]:
     """The reference of every case (same order as ``cases``); see the module docstring.
-    ``executor``, ``jobs``, ``scheduler``: where the solves run (:func:`grid_solutions`)."""
+    ``executor``, ``jobs``, ``scheduler``: where the solves run (:func:`grid_solutions`);
+    ``cache``: folder of kept grid solutions (module docstring; the default solve task only)."""
     grids = tuple(sorted(set(int(m) for m in grids)))
     if len(grids) < 3:
         raise ValueError(f"grids={grids}: need at least 3 grids for the extrapolation and its "
                          "uncertainty")
-    sols = grid_solutions([c.solve_kwargs() for c in cases], grids, executor=executor,
-                          jobs=jobs, scheduler=scheduler, progress=progress,
-                          solve_task=solve_task)
+    kwargs = [c.solve_kwargs() for c in cases]
+    kept = (_cache_file(Path(cache), kwargs, grids)
+            if cache is not None and solve_task is _solve_exact else None)
+    sols = _load_solutions(kept, len(cases), grids) if kept is not None else None
+    if sols is None:
+        sols = grid_solutions(kwargs, grids, executor=executor, jobs=jobs, scheduler=scheduler,
+                              progress=progress, solve_task=solve_task)
+        if kept is not None:
+            _save_solutions(kept, sols, grids)
     return _build(cases, grids, sols, tol_force, tol_moment)
+
+
+#: Sources the reference depends on (relative to the package): the exact solver and what it uses.
+_SOURCES = ("exact", "base.py", "hertz.py", "material.py", "coefficients.py", "result.py",
+            "api.py", "bench/reference.py")
+
+
+def _cache_file(folder: Path, kwargs: list[dict[str, float]], grids: tuple[int, ...]) -> Path:
+    root = Path(__file__).resolve().parents[1]
+    code = hashlib.sha256()
+    for name in _SOURCES:
+        path = root / name
+        for f in sorted(path.glob("*.py")) if path.is_dir() else [path]:
+            code.update(f.read_bytes())
+    key = json.dumps({"grids": grids, "cases": kwargs, "code": code.hexdigest()}, sort_keys=True)
+    return folder / f"reference_{hashlib.sha256(key.encode()).hexdigest()[:16]}.npz"
+
+
+def _load_solutions(path: Path, n: int, grids: tuple[int, ...]) -> list[dict[int, tuple]] | None:
+    """The kept (Fx, Fy, Mz, converged, seconds) per case and grid, or None if there are none
+    of this shape."""
+    if not path.is_file():
+        return None
+    with np.load(path, allow_pickle=False) as z:
+        arr = z["solutions"]
+    if arr.shape != (n, len(grids), 5) or not np.isfinite(arr[:, :, 3:]).all():
+        return None
+    return [{m: (float(row[0]), float(row[1]), float(row[2]), bool(row[3]), float(row[4]))
+             for m, row in zip(grids, per_case)} for per_case in arr]
+
+
+def _save_solutions(path: Path, sols: list[dict[int, tuple]], grids: tuple[int, ...]) -> None:
+    arr = np.array([[[float(v) for v in sol[m]] for m in grids] for sol in sols])
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.stem + ".part.npz")
+    np.savez(tmp, solutions=arr)
+    os.replace(tmp, path)
 
 
 def convergence_by_ratio(cases: Sequence[Case], refs: Sequence[Reference]) -> list[dict[str, Any]]:

@@ -61,13 +61,15 @@ def run(form: str = "short", *, cases: Sequence[Case] | None = None,
         out: str | Path | None = "out", docs: str | Path | None = None,
         build_dir: str | Path = "build/bench_fmu", tol_force: float = TOL_FORCE,
         tol_moment: float = TOL_MOMENT, progress: bool = True,
-        log: Callable[[str], Any] = print, cli: str = "") -> BenchResult:
+        log: Callable[[str], Any] = print, cli: str = "",
+        reference_cache: str | Path | None = None) -> BenchResult:
     """Run the benchmark and write ``out/accuracy_vs_time.{md,png}`` (and copies in ``docs``).
 
     ``cases``/``settings`` default to the ``form``'s (``short``, ``full``, ``smoke``);
     ``extra_settings`` are appended (e.g. a perturbed copy of a method, see :class:`Setting`).
     ``jobs``/``scheduler``/``executor``: parallelism of the reference sweep (see
-    :func:`~contact_core.bench.reference.compute_references`). ``out=None``: write nothing.
+    :func:`~contact_core.bench.reference.compute_references`), ``reference_cache`` the folder
+    where its grid solutions are kept between runs (None: not kept). ``out=None``: write nothing.
     """
     t_start = time.perf_counter()
     spec = load_spec()
@@ -81,7 +83,8 @@ def run(form: str = "short", *, cases: Sequence[Case] | None = None,
 
     t0 = time.perf_counter()
     refs = compute_references(cases, grids, executor=executor, jobs=jobs, scheduler=scheduler,
-                              tol_force=tol_force, tol_moment=tol_moment, progress=progress)
+                              tol_force=tol_force, tol_moment=tol_moment, progress=progress,
+                              cache=reference_cache)
     conv = convergence_by_ratio(cases, refs)
     log(f"reference: exact on grids {', '.join(f'{m}x{m}' for m in grids)}, "
         f"{time.perf_counter() - t0:.0f} s wall with jobs={jobs if executor is None else 'executor'}")
