@@ -83,16 +83,11 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
     lo = axes[0]
     h = axes[1]
     shape = values.shape
-    ia, a0, a1, a2, a3 = _weights(log_ab, lo[0], h[0], shape[0])
-    inu, v0, v1, v2, v3 = _weights(nu, lo[1], h[1], shape[1])
-    wa = (a0, a1, a2, a3)
-    wn = (v0, v1, v2, v3)
-    na = 4 if shape[0] >= 4 else 2
-    nn = 4 if shape[1] >= 4 else 2
+    ia, wa, na, inu, wn, nn = _pair_stencil(lo, h, shape[0], shape[1], log_ab, nu)
     it, wt, ip, wp, js, wk = _stencil(lo, h, shape[2], shape[3], shape[4], theta, psi, s)
-    nt = 4 if shape[2] >= 4 else 2
-    npp = 4 if shape[3] >= 4 else 2
-    ns = 4 if shape[4] >= 4 else 2
+    nt = _count(shape[2])
+    npp = _count(shape[3])
+    ns = _count(shape[4])
     st_p = shape[4] * 4
     st_t = shape[3] * st_p
     st_n = shape[2] * st_t
@@ -107,25 +102,46 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
             wtp = wt[t] * wp[p]
             for k in range(ns):
                 w = wtp * wk[k]
-                o = (it + t) * st_t + (ip + p) * st_p + (js + k) * 4
-                # the node at (a/b, ν), summed as in _make_slice
-                n0 = 0.0
-                n1 = 0.0
-                n2 = 0.0
-                n3 = 0.0
-                for a in range(na):
-                    for b in range(nn):
-                        wab = wa[a] * wn[b]
-                        q = (ia + a) * st_a + (inu + b) * st_n + o
-                        n0 += wab * flat[q]
-                        n1 += wab * flat[q + 1]
-                        n2 += wab * flat[q + 2]
-                        n3 += wab * flat[q + 3]
+                n0, n1, n2, n3 = _node_at_pair(flat, (it + t) * st_t + (ip + p) * st_p
+                                               + (js + k) * 4, ia, wa, na, st_a, inu, wn, nn,
+                                               st_n)
                 g0 += w * n0
                 g1 += w * n1
                 g2 += w * n2
                 g3 += w * n3
     return _finish(sx, sy, s, g0, g1, g2, g3)
+
+
+def _node_at_pair(flat: np.ndarray, o: int, ia: int, wa: tuple, na: int, st_a: int, inu: int,
+                  wn: tuple, nn: int, st_n: int) -> tuple[float, float, float, float]:
+    """The 4 values of the (θ, ψ, s) node at offset ``o`` interpolated at (a/b, ν), summed in the
+    order of :func:`_make_slice`."""
+    n0 = 0.0
+    n1 = 0.0
+    n2 = 0.0
+    n3 = 0.0
+    for a in range(na):
+        for b in range(nn):
+            w = wa[a] * wn[b]
+            q = (ia + a) * st_a + (inu + b) * st_n + o
+            n0 += w * flat[q]
+            n1 += w * flat[q + 1]
+            n2 += w * flat[q + 2]
+            n3 += w * flat[q + 3]
+    return n0, n1, n2, n3
+
+
+def _count(n: int) -> int:
+    """Nodes of an axis's stencil (:func:`_weights`)."""
+    return 4 if n >= 4 else 2
+
+
+def _pair_stencil(lo: np.ndarray, h: np.ndarray, n_ab: int, n_nu: int, log_ab: float,
+                  nu: float) -> tuple:
+    """First nodes, weights and node counts on the ln(a/b) and ν axes (:func:`_weights`)."""
+    ia, a0, a1, a2, a3 = _weights(log_ab, lo[0], h[0], n_ab)
+    inu, v0, v1, v2, v3 = _weights(nu, lo[1], h[1], n_nu)
+    return ia, (a0, a1, a2, a3), _count(n_ab), inu, (v0, v1, v2, v3), _count(n_nu)
 
 
 def _stencil(lo: np.ndarray, h: np.ndarray, n_t: int, n_p: int, n_s: int, theta: float,
@@ -141,9 +157,9 @@ def _cube(flat: np.ndarray, base: int, n_t: int, n_p: int, n_s: int, it: int, wt
           ip: int, wp: tuple, js: int, wk: tuple) -> tuple[float, float, float, float]:
     """The cubic interpolation over (θ, ψ, s) of the block (n_θ, n_ψ, n_s, 4) that starts at
     ``flat[base]``, with the stencil (first nodes and weights) of :func:`_stencil`."""
-    nt = 4 if n_t >= 4 else 2
-    npp = 4 if n_p >= 4 else 2
-    ns = 4 if n_s >= 4 else 2
+    nt = _count(n_t)
+    npp = _count(n_p)
+    ns = _count(n_s)
     st_p = n_s * 4
     st_t = n_p * st_p
     g0 = 0.0
@@ -167,15 +183,8 @@ def _cube(flat: np.ndarray, base: int, n_t: int, n_p: int, n_s: int, it: int, wt
 def _make_slice(values: np.ndarray, axes: np.ndarray, log_ab: float, nu: float) -> np.ndarray:
     """The table interpolated at (ln(a/b), ν) on every (θ, ψ, s) node: shape (n_θ, n_ψ, n_s, 4),
     the same weights as :func:`_lookup`."""
-    lo = axes[0]
-    h = axes[1]
     shape = values.shape
-    ia, a0, a1, a2, a3 = _weights(log_ab, lo[0], h[0], shape[0])
-    inu, n0, n1, n2, n3 = _weights(nu, lo[1], h[1], shape[1])
-    wa = (a0, a1, a2, a3)
-    wn = (n0, n1, n2, n3)
-    na = 4 if shape[0] >= 4 else 2
-    nn = 4 if shape[1] >= 4 else 2
+    ia, wa, na, inu, wn, nn = _pair_stencil(axes[0], axes[1], shape[0], shape[1], log_ab, nu)
     size = shape[2] * shape[3] * shape[4] * 4
     st_a = shape[1] * size
     flat = values.reshape(-1)
@@ -209,11 +218,13 @@ _KERNELS: tuple[Callable, Callable, Callable] | None = None
 def kernels() -> tuple[Callable, Callable, Callable]:
     """The numba-compiled (:func:`_lookup`, :func:`_make_slice`, :func:`_lookup_slice`) (numba
     imported on first use; cached on disk)."""
-    global _KERNELS, _weights, _polar, _finish, _stencil, _cube
+    global _KERNELS, _weights, _count, _polar, _finish, _pair_stencil, _stencil, _cube
+    global _node_at_pair
     if _KERNELS is None:
         import numba
         jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-        _weights, _polar, _finish = jit(_weights), jit(_polar), jit(_finish)
-        _stencil, _cube = jit(_stencil), jit(_cube)
+        _weights, _count, _polar, _finish = jit(_weights), jit(_count), jit(_polar), jit(_finish)
+        _pair_stencil, _stencil, _cube = jit(_pair_stencil), jit(_stencil), jit(_cube)
+        _node_at_pair = jit(_node_at_pair)
         _KERNELS = (jit(_lookup), jit(_make_slice), jit(_lookup_slice))
     return _KERNELS
