@@ -45,7 +45,8 @@ AXES = {"full": Axes(), "small": Axes(n_ab=4, n_theta=7, n_psi=4, n_s=8)}
 #: row (|F| / Mz max, % of μN and μN·c): a/b = 0.1: 48×48 0.21 / 0.75, 64×64 0.57 / 1.21 (its
 #: half grid, 32, is short of the first-order range), 80×80 0.18 / 0.43; a/b = 0.178: 0.27 / 0.58,
 #: 0.32 / 0.51, 0.21 / 0.33. Linear range against Kalker's table (Kalker 1990, Table E.3) at
-#: a/b = 10: C22 +1.6 % at 48×48, +0.2 % at 80×80; at a/b = 5.6 +0.9 % at 48×48.
+#: a/b = 10: C22 +1.6 % at 48×48, +0.2 % at 80×80; at a/b = 5.6 +0.9 % at 48×48. The upper
+#: bound may be None (``--fine-above none``): no fine nodes at large a/b.
 DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.3, 7.0)
 # The canonical problem every node is solved in (similarity: any values would do): c = √(ab),
 # G, μ, and N = G c² so that G c²/(μN) = 1 and the reduced creepages are C·(ξ, η, c φ).
@@ -91,11 +92,14 @@ def rays(axes: Axes) -> list[tuple[int, int, int, int]]:
     return out
 
 
-def config(axes: Axes, grid: int, fine_grid: int | None = None) -> dict[str, Any]:
+def config(axes: Axes, grid: int, fine_grid: int | None = None,
+           coarse: tuple[float, float | None] = FINE_INSIDE) -> dict[str, Any]:
+    """The build's configuration (recorded in the table): ``coarse``, the a/b range of the
+    ``grid`` nodes, outside it ``fine_grid`` (``FINE_INSIDE``)."""
     fine = grid if fine_grid is None else fine_grid
     return {"axes": asdict(axes),
             "exact": {"mx": grid, "my": grid, "extrapolate": True,
-                      "coarse_a_over_b": list(FINE_INSIDE), "fine_mx": fine, "fine_my": fine},
+                      "coarse_a_over_b": list(coarse), "fine_mx": fine, "fine_my": fine},
             "canonical": {"c": _C, "G": _G, "mu": _MU}, "format_version": data.FORMAT_VERSION}
 
 
@@ -103,7 +107,7 @@ def node_options(exact: dict[str, Any], a_over_b: float) -> dict[str, Any]:
     """The exact solver's options of the nodes at ``a_over_b`` (``exact``: the table's
     ``config["exact"]``)."""
     lo, hi = exact["coarse_a_over_b"]
-    fine = not lo <= a_over_b <= hi
+    fine = a_over_b < lo or (hi is not None and a_over_b > hi)
     return {"mx": exact["fine_mx" if fine else "mx"], "my": exact["fine_my" if fine else "my"],
             "extrapolate": exact["extrapolate"]}
 
@@ -114,7 +118,8 @@ def digest(cfg: dict[str, Any]) -> str:
 
 def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = None,
           workers: int | None = None, progress: bool = True, command: str = "",
-          fine_grid: int | None = None) -> Path:
+          fine_grid: int | None = None,
+          coarse: tuple[float, float | None] = FINE_INSIDE) -> Path:
     """Solve the missing rays on Dask, then assemble and write the table (module docstring)."""
     from concurrent.futures import as_completed
 
@@ -122,7 +127,7 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
 
     from ..sweep import executor
 
-    cfg = config(axes, grid, fine_grid)
+    cfg = config(axes, grid, fine_grid, coarse)
     work.mkdir(parents=True, exist_ok=True)
     (work / "config.json").write_text(json.dumps(cfg, indent=1) + "\n", encoding="utf-8")
     ab, nu, th, ps, s = axes.a_over_b(), axes.nu(), axes.theta(), axes.psi(), axes.s()
@@ -178,6 +183,9 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--fine-grid", type=int, default=DEFAULT_FINE_GRID,
                    help=f"the grid outside a/b = {FINE_INSIDE[0]}..{FINE_INSIDE[1]} (default "
                    f"{DEFAULT_FINE_GRID})")
+    b.add_argument("--fine-above", default=str(FINE_INSIDE[1]),
+                   help=f"the fine grid above this a/b (default {FINE_INSIDE[1]}; 'none': not "
+                   "at large a/b)")
     b.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a "
                    "LocalCluster on this machine)")
     b.add_argument("--workers", type=int, default=None, help="LocalCluster processes")
@@ -187,10 +195,12 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--no-progress", action="store_true")
     a = p.parse_args(argv)
     axes = AXES[a.axes]
-    cfg = config(axes, a.grid, a.fine_grid)
+    coarse = (FINE_INSIDE[0], None if a.fine_above.lower() == "none" else float(a.fine_above))
+    cfg = config(axes, a.grid, a.fine_grid, coarse)
     work = Path(a.work) if a.work else Path("build") / "table_work" / digest(cfg)
     out = Path(a.out) if a.out else data.data_dir()
     path = build(axes, a.grid, work, out, a.scheduler, a.workers, not a.no_progress,
-                 command="python -m contact_core.table " + " ".join(argv), fine_grid=a.fine_grid)
+                 command="python -m contact_core.table " + " ".join(argv), fine_grid=a.fine_grid,
+                 coarse=coarse)
     print(f"wrote {path} (sha256 {data.sha256(path)})")
     return 0
