@@ -65,6 +65,11 @@ class Axes:
     n_s: int = 32
     spin_power: float = 0.8
 
+    def __post_init__(self) -> None:
+        for name in ("n_theta", "n_psi", "n_s"):
+            if getattr(self, name) < 4:     # the lookup is cubic on these axes (4 nodes)
+                raise ValueError(f"{name}={getattr(self, name)!r} is invalid: allowed >= 4")
+
     @property
     def shape(self) -> tuple[int, int, int, int, int]:
         return (self.n_ab, self.n_nu, self.n_theta, self.n_psi, self.n_s)

@@ -85,15 +85,17 @@ class Table(ContactMethod):
 
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         ab = a / b
-        nu_lo, nu_hi = self._nu_range
-        if not (self._lo_ab <= ab <= self._hi_ab and nu_lo <= nu <= nu_hi):
-            return self._outside(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
-        if self._linear is not None:
-            return replace(self._linear.step(xi, eta, phi, N, mu, a, b, G, nu), method=self.name)
         # a/b and ν rarely change in a simulation (a/b of a Hertz patch whose size follows N
-        # takes two or three values in the last digits): their scales and slice are kept.
+        # takes two or three values in the last digits): their scales and slice are kept, for
+        # pairs inside the table only.
         pair = self._pairs.get((ab, nu))
         if pair is None or pair[4] is None:
+            nu_lo, nu_hi = self._nu_range
+            if not (self._lo_ab <= ab <= self._hi_ab and nu_lo <= nu <= nu_hi):
+                return self._outside(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+            if self._linear is not None:
+                return replace(self._linear.step(xi, eta, phi, N, mu, a, b, G, nu),
+                               method=self.name)
             pair = self._pair(ab, nu, pair)
         s_xi, s_eta, s_phi, log_ab, slab = pair
         c = math.sqrt(a * b)
