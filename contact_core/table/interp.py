@@ -207,19 +207,21 @@ def _lookup_slice(slab: np.ndarray, axes: np.ndarray, u0: float, u1: float,
     return _finish(sx, sy, s, g0, g1, g2, g3)
 
 
-_KERNELS: tuple[Callable, Callable, Callable] | None = None
+_JITTED = False
 
 
 def kernels() -> tuple[Callable, Callable, Callable]:
     """The numba-compiled (:func:`_lookup`, :func:`_make_slice`, :func:`_lookup_slice`) (numba
-    imported on first use; cached on disk)."""
-    global _KERNELS, _weights, _count, _polar, _finish, _pair_stencil, _stencil, _cube
-    global _node_at_pair
-    if _KERNELS is None:
+    imported on first use; cached on disk). Every function of this module is replaced by its
+    compiled version (module attributes, as numba's cache statistics expect)."""
+    global _JITTED, _weights, _count, _polar, _finish, _pair_stencil, _stencil, _cube
+    global _node_at_pair, _lookup, _make_slice, _lookup_slice
+    if not _JITTED:
         import numba
         jit = numba.njit(cache=True, nogil=True, error_model="numpy")
         _weights, _count, _polar, _finish = jit(_weights), jit(_count), jit(_polar), jit(_finish)
         _pair_stencil, _stencil, _cube = jit(_pair_stencil), jit(_stencil), jit(_cube)
         _node_at_pair = jit(_node_at_pair)
-        _KERNELS = (jit(_lookup), jit(_make_slice), jit(_lookup_slice))
-    return _KERNELS
+        _lookup, _make_slice, _lookup_slice = jit(_lookup), jit(_make_slice), jit(_lookup_slice)
+        _JITTED = True
+    return _lookup, _make_slice, _lookup_slice
