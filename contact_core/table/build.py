@@ -171,6 +171,18 @@ def _save_ray(path: Path, values: np.ndarray) -> None:
     os.replace(tmp, path)
 
 
+def _bound_or_none(text: str) -> float | None:
+    if text.lower() == "none":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"{text!r} is invalid: allowed a/b > 0 or 'none'")
+    return value
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     p = argparse.ArgumentParser(prog="python -m contact_core.table",
@@ -183,7 +195,7 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--fine-grid", type=int, default=DEFAULT_FINE_GRID,
                    help=f"the grid outside a/b = {FINE_INSIDE[0]}..{FINE_INSIDE[1]} (default "
                    f"{DEFAULT_FINE_GRID})")
-    b.add_argument("--fine-above", default=str(FINE_INSIDE[1]),
+    b.add_argument("--fine-above", type=_bound_or_none, default=FINE_INSIDE[1],
                    help=f"the fine grid above this a/b (default {FINE_INSIDE[1]}; 'none': not "
                    "at large a/b)")
     b.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a "
@@ -195,7 +207,7 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--no-progress", action="store_true")
     a = p.parse_args(argv)
     axes = AXES[a.axes]
-    coarse = (FINE_INSIDE[0], None if a.fine_above.lower() == "none" else float(a.fine_above))
+    coarse = (FINE_INSIDE[0], a.fine_above)
     cfg = config(axes, a.grid, a.fine_grid, coarse)
     work = Path(a.work) if a.work else Path("build") / "table_work" / digest(cfg)
     out = Path(a.out) if a.out else data.data_dir()
