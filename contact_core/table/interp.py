@@ -74,9 +74,9 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
     (n_ab, n_nu, n_θ, n_ψ, n_s, 4), C-contiguous; ``axes`` (2, 5): the start and the step of the
     five axes. Nothing is written outside the call (thread-safe).
 
-    Each node of the (θ, ψ, s) stencil is first interpolated at (a/b, ν), then the nodes are
-    summed, each sum in the order of :func:`_make_slice` and :func:`_cube`: the result is the
-    same to the bit as :func:`_lookup_slice` on the slice, whichever path a call takes."""
+    Each node of the (θ, ψ, s) stencil is first interpolated at (a/b, ν), summed in the order of
+    :func:`_make_slice`, then :func:`_cube` sums the nodes: the result is the same to the bit as
+    :func:`_lookup_slice` on the slice, whichever path a call takes."""
     sx, sy, theta, psi, s = _polar(u0, u1, u2)
     if s == 0.0:
         return 0.0, 0.0, 0.0, 0.0
@@ -90,22 +90,16 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
     st_n = shape[2] * st_t
     st_a = shape[1] * st_n
     flat = values.reshape(-1)            # a view (C-contiguous): plain offsets, no sub-arrays
-    g0 = 0.0
-    g1 = 0.0
-    g2 = 0.0
-    g3 = 0.0
+    local = np.empty(256)                # the stencil's 4 x 4 x 4 nodes at (a/b, ν)
+    j = 0
     for t in range(4):
         for p in range(4):
-            wtp = wt[t] * wp[p]
             for k in range(4):
-                w = wtp * wk[k]
-                n0, n1, n2, n3 = _node_at_pair(flat, (it + t) * st_t + (ip + p) * st_p
+                local[j:j + 4] = _node_at_pair(flat, (it + t) * st_t + (ip + p) * st_p
                                                + (js + k) * 4, ia, wa, na, st_a, inu, wn, nn,
                                                st_n)
-                g0 += w * n0
-                g1 += w * n1
-                g2 += w * n2
-                g3 += w * n3
+                j += 4
+    g0, g1, g2, g3 = _cube(local, 0, 4, 4, 4, 0, wt, 0, wp, 0, wk)
     return _finish(sx, sy, s, g0, g1, g2, g3)
 
 
