@@ -18,8 +18,9 @@ import pytest
 
 import contact_core as cc
 from contact_core.table import TableDomainWarning, data
-from contact_core.table.build import AXES, build, node_options, solve_ray
-from contact_core.table.grid import creepages_from_reduced, node_reduced_creepage
+from contact_core.table.build import (AXES, build, config, node_options, rays, reuse_rays,
+                                      solve_ray)
+from contact_core.table.grid import Axes, creepages_from_reduced, node_reduced_creepage
 
 G, N, MU = 8e10, 1e5, 0.3
 
@@ -186,3 +187,22 @@ def test_build_pipeline_is_resumable_and_reproducible(tmp_path):
                     float(axes.psi()[2]), [float(v) for v in axes.s()], grid,
                     axes.spin_weight(float(axes.a_over_b()[1])))
     np.testing.assert_allclose(t.values[1, 1, 3, 2], ray, rtol=1e-9, atol=1e-12)
+
+
+def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
+    # θ refined from 7 to 13 nodes: every ray of the coarse build is an even-θ ray of the fine
+    # one and is taken over (the values a fresh solve gives); a different exact grid takes none.
+    coarse, grid = AXES["small"], 16
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        build(coarse, grid, tmp_path / "coarse", tmp_path / "t", workers=1, progress=False)
+    fine = Axes(**{**coarse.to_record(), "n_theta": 2 * coarse.n_theta - 1})
+    assert reuse_rays(tmp_path / "coarse", fine, config(fine, grid), tmp_path / "w") == \
+        len(rays(coarse))
+    assert reuse_rays(tmp_path / "coarse", fine, config(fine, grid + 2), tmp_path / "w2") == 0
+    ab, nu = float(fine.a_over_b()[2]), float(fine.nu()[0])
+    ray = solve_ray(ab, nu, float(fine.theta()[4]), float(fine.psi()[1]),
+                    [float(v) for v in fine.s()], grid, fine.spin_weight(ab))
+    np.testing.assert_allclose(np.load(tmp_path / "w" / "ray_2_0_4_1.npy"), ray, rtol=1e-9,
+                               atol=1e-12)
+    assert not (tmp_path / "w" / "ray_2_0_3_1.npy").exists()

@@ -1,7 +1,7 @@
 """Building the table: independent exact solves on Dask, resumable, reproducible.
 
 ``python -m contact_core.table build [--axes full|small] [--grid M] [--fine-grid M2]
-[--scheduler ADDRESS] [--workers N] [--work DIR] [--out DIR]``
+[--scheduler ADDRESS] [--workers N] [--work DIR] [--reuse DIR ...] [--out DIR]``
 
 One task per ray: a node (a/b, ν, θ, ψ) of the table and all its magnitudes s, solved in order
 of increasing s, each exact solve warm-started from the previous one (neighbouring nodes are then
@@ -13,6 +13,8 @@ Tasks run on a Dask ``distributed`` cluster: a ``LocalCluster`` of ``--workers``
 (default: every core) or the existing cluster at ``--scheduler``. Every finished ray is saved at
 once to the work folder (``--work``, default ``build/table_work/<digest of the configuration>``)
 as a numpy file, so an interrupted build resumes where it stopped; a progress bar counts rays.
+``--reuse`` takes the finished rays of other builds' work folders whose node and exact setting
+are the same as one of this build's, e.g. when an axis is refined from n to 2n - 1 nodes.
 When every ray is there the table is assembled and written to ``--out`` (default
 ``contact_core/data``) with its metadata (:mod:`.data`): the command, the configuration, its
 digest, the build's wall time and the SHA-256 of the values. Nothing in the build is random: the
@@ -30,7 +32,7 @@ import time
 import warnings
 from dataclasses import asdict
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -119,8 +121,9 @@ def digest(cfg: dict[str, Any]) -> str:
 def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = None,
           workers: int | None = None, progress: bool = True, command: str = "",
           fine_grid: int | None = None,
-          coarse: tuple[float, float | None] = FINE_INSIDE) -> Path:
-    """Solve the missing rays on Dask, then assemble and write the table (module docstring)."""
+          coarse: tuple[float, float | None] = FINE_INSIDE, reuse: Sequence[Path] = ()) -> Path:
+    """Solve the missing rays on Dask, then assemble and write the table (module docstring);
+    ``reuse``: work folders of other builds (:func:`reuse_rays`)."""
     from concurrent.futures import as_completed
 
     from tqdm.auto import tqdm
@@ -131,6 +134,7 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
     work.mkdir(parents=True, exist_ok=True)
     (work / "config.json").write_text(json.dumps(cfg, indent=1) + "\n", encoding="utf-8")
     ab, nu, th, ps, s = axes.a_over_b(), axes.nu(), axes.theta(), axes.psi(), axes.s()
+    reused = sum(reuse_rays(folder, axes, cfg, work) for folder in reuse)
     all_rays = rays(axes)
     todo = [r for r in all_rays if not _ray_file(work, r).is_file()]
     t0 = time.perf_counter()
@@ -155,8 +159,37 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
     seconds = time.perf_counter() - t0
     meta = {"command": command, "config": cfg, "config_digest": digest(cfg),
             "rays": len(all_rays), "wall_seconds_last_session": round(seconds, 1),
+            "rays_reused_last_session": reused,
             "built": time.strftime("%Y-%m-%d")}
     return data.write(values, axes, meta, out)
+
+
+def _ray_key(cfg: dict[str, Any], axes: Axes, r: tuple[int, int, int, int]) -> tuple:
+    """What a ray's values depend on: its node, the magnitudes s, the spin weight and the exact
+    solver's options (the solver is deterministic; the canonical problem is in ``cfg``)."""
+    ab = float(axes.a_over_b()[r[0]])
+    return (ab, float(axes.nu()[r[1]]), float(axes.theta()[r[2]]), float(axes.psi()[r[3]]),
+            tuple(axes.s().tolist()), axes.spin_weight(ab),
+            tuple(sorted(node_options(cfg["exact"], ab).items())),
+            json.dumps(cfg["canonical"], sort_keys=True), cfg["format_version"])
+
+
+def reuse_rays(source: Path, axes: Axes, cfg: dict[str, Any], work: Path) -> int:
+    """Copy into ``work`` the finished rays of the build whose work folder is ``source`` that
+    solved one of this build's rays (same :func:`_ray_key`, node values equal to the bit); returns
+    how many were copied."""
+    src_cfg = json.loads((source / "config.json").read_text(encoding="utf-8"))
+    src_axes = Axes(**src_cfg["axes"])
+    wanted = {_ray_key(cfg, axes, r): r for r in rays(axes)}
+    work.mkdir(parents=True, exist_ok=True)
+    copied = 0
+    for r in rays(src_axes):
+        target = wanted.get(_ray_key(src_cfg, src_axes, r))
+        if target is None or not _ray_file(source, r).is_file() or _ray_file(work, target).is_file():
+            continue
+        _save_ray(_ray_file(work, target), np.load(_ray_file(source, r), allow_pickle=False))
+        copied += 1
+    return copied
 
 
 def _ray_file(work: Path, r: tuple[int, int, int, int]) -> Path:
@@ -202,6 +235,9 @@ def main(argv: list[str] | None = None) -> int:
                    "LocalCluster on this machine)")
     b.add_argument("--workers", type=int, default=None, help="LocalCluster processes")
     b.add_argument("--work", default=None, help="folder of the finished rays (resume)")
+    b.add_argument("--reuse", action="append", default=[], metavar="DIR",
+                   help="work folder of another build: its rays at the same nodes and exact "
+                   "setting are taken (repeatable)")
     b.add_argument("--out", default=None, help="where to write the table (default: the "
                    "package's data folder)")
     b.add_argument("--no-progress", action="store_true")
@@ -211,8 +247,11 @@ def main(argv: list[str] | None = None) -> int:
     cfg = config(axes, a.grid, a.fine_grid, coarse)
     work = Path(a.work) if a.work else Path("build") / "table_work" / digest(cfg)
     out = Path(a.out) if a.out else data.data_dir()
+    # the command that reproduces the table: reused rays are the same values, solved earlier
+    kept = [x for i, x in enumerate(argv) if x != "--reuse" and (i == 0 or argv[i - 1] != "--reuse")
+            and not x.startswith("--reuse=")]
     path = build(axes, a.grid, work, out, a.scheduler, a.workers, not a.no_progress,
-                 command="python -m contact_core.table " + " ".join(argv), fine_grid=a.fine_grid,
-                 coarse=coarse)
+                 command="python -m contact_core.table " + " ".join(kept), fine_grid=a.fine_grid,
+                 coarse=coarse, reuse=[Path(d) for d in a.reuse])
     print(f"wrote {path} (sha256 {data.sha256(path)})")
     return 0
