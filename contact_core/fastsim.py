@@ -55,9 +55,10 @@ Option ``flexibility``:
     5 % (docs/accuracy_vs_time.md).
 
 (CONTACT's own blend, ``simpflex`` in ``m_hertz.f90``, Vollebregt, is not used here. It moves
-L1, L2, L3 towards one combined flexibility, the creepage-weighted harmonic mean, as the creepage
-grows to three times its characteristic size μN/(G c² C11) etc.; under pure spin that mean is L3 itself, so for pure spin CONTACT's
-FASTSIM and this one use the same flexibility and differ only in the discretisation.)
+L1, L2, L3 towards one combined flexibility, the creepage-weighted harmonic mean, as the
+creepage grows to three times its characteristic size μN/(G c² C11) etc.; under pure spin that
+mean is L3 itself, so for pure spin CONTACT's FASTSIM and this one use the same flexibility and
+differ only in the discretisation.)
 
 Traction bound g = μ p_n (option ``bound``):
 
