@@ -7,6 +7,13 @@ sign), |u| log-uniform from 1e-3 (linear range) to 1e2 (full sliding), N and μ 
 reference is the benchmark's (:mod:`contact_core.bench.reference`): the exact solver on square
 grids, each on its own (``extrapolate=False``), fitted to q(m) = q∞ + C/m and taken at m -> ∞.
 Errors: |F| vector error in % of μN, Mz error in % of μN c. Writes a Markdown report.
+
+A second, smaller set (``--hard``, seed + 1) samples the region where interpolation is hardest and
+the uniform set rarely goes: near full sliding (s from 0.85 to 0.999) with the creepage direction
+within one ψ spacing of pure ξ or pure η (ψ near 0 or π/2), any θ. There, with spin, the zero
+line of one rigid-slip component crosses the contact and the other force component varies like
+x log|x| in the small creepage x (the Coulomb direction turns across that line), which a cubic
+in ψ does not follow.
 """
 from __future__ import annotations
 
@@ -48,6 +55,33 @@ def random_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
     return out
 
 
+def hard_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
+    """The hard region (module docstring): table coordinates (θ, ψ, s) sampled directly, ψ
+    within one node spacing of 0 or π/2, s in [0.85, 0.999], random signs of ξ and η."""
+    from ..coefficients import creep_coefficients
+    from .grid import node_reduced_creepage
+    rng = np.random.default_rng(seed)
+    dpsi = 0.5 * math.pi / (axes.n_psi - 1)
+    out = []
+    for _ in range(n):
+        ab = math.exp(rng.uniform(math.log(axes.ab_lo), math.log(axes.ab_hi)))
+        nu = rng.uniform(axes.nu_lo, axes.nu_hi)
+        theta = rng.uniform(0.0, math.pi)
+        psi = rng.uniform(0.0, dpsi) if rng.integers(2) == 0 else rng.uniform(0.5 * math.pi - dpsi,
+                                                                              0.5 * math.pi)
+        u = node_reduced_creepage(theta, psi, rng.uniform(0.85, 0.999), axes.spin_weight(ab))
+        u[:2] *= rng.choice([-1.0, 1.0], size=2)
+        N = 10.0 ** rng.uniform(4.0, 5.3)
+        mu = 10.0 ** rng.uniform(-1.0, -0.3)
+        b = _C / math.sqrt(ab)
+        a = ab * b
+        c11, c22, c23, _ = creep_coefficients(ab, nu)
+        xi, eta, phi = creepages_from_reduced(u, c11, c22, c23, _C, _G * _C * _C / (mu * N))
+        out.append({"xi": xi, "eta": eta, "phi": phi, "N": N, "mu": mu, "a": a, "b": b, "G": _G,
+                    "nu": nu})
+    return out
+
+
 def references(cases, scheduler=None, workers=None, progress=True) -> np.ndarray:
     """(Fx, Fy, Mz) extrapolated to zero element size per case (module docstring)."""
     sols = grid_solutions(cases, GRIDS, jobs=workers or os.cpu_count() or 1, scheduler=scheduler,
@@ -70,21 +104,28 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--workers", type=int, default=None)
     p.add_argument("--out", default="docs/table_accuracy.md")
     p.add_argument("--no-progress", action="store_true")
+    p.add_argument("--hard", type=int, default=2000, help="cases of the hard region (module "
+                   "docstring; 0: none)")
     p.add_argument("--references-only", action="store_true",
                    help="compute and keep the references (build/), no table needed yet")
     a = p.parse_args(argv)
-    cases = random_cases(a.cases, a.seed, AXES["full"])
-    # the references depend on the cases only: kept between runs (data only, numpy)
-    keep = Path("build") / f"table_check_reference_{a.cases}_{a.seed}.npz"
-    if keep.is_file():
-        with np.load(keep, allow_pickle=False) as z:
-            ref, t_ref = z["ref"], float(z["seconds"])
-    else:
+    def kept_references(cases, name):
+        # the references depend on the cases only: kept between runs (data only, numpy)
+        keep = Path("build") / f"table_check_reference_{name}.npz"
+        if keep.is_file():
+            with np.load(keep, allow_pickle=False) as z:
+                return z["ref"], float(z["seconds"])
         t0 = time.perf_counter()
         ref = references(cases, a.scheduler, a.workers, not a.no_progress)
-        t_ref = time.perf_counter() - t0
+        seconds = time.perf_counter() - t0
         keep.parent.mkdir(parents=True, exist_ok=True)
-        np.savez(keep, ref=ref, seconds=t_ref)
+        np.savez(keep, ref=ref, seconds=seconds)
+        return ref, seconds
+
+    cases = random_cases(a.cases, a.seed, AXES["full"])
+    ref, t_ref = kept_references(cases, f"{a.cases}_{a.seed}")
+    hard = hard_cases(a.hard, a.seed + 1, AXES["full"])
+    ref_hard, t_hard = kept_references(hard, f"hard_{a.hard}_{a.seed + 1}") if hard else (None, 0)
     if a.references_only:
         return 0
     t = data.load()
@@ -94,7 +135,7 @@ def main(argv: list[str] | None = None) -> int:
     mun = np.array([kw["mu"] * kw["N"] for kw in cases])
     c = np.array([math.sqrt(kw["a"] * kw["b"]) for kw in cases])
 
-    def errs(res):
+    def errs(res, ref=ref, mun=mun, c=c):
         eF = np.hypot(res[:, 0] - ref[:, 0], res[:, 1] - ref[:, 1]) / mun * 100
         eM = np.abs(res[:, 2] - ref[:, 2]) / (mun * c) * 100
         return eF, eM
@@ -154,6 +195,22 @@ def main(argv: list[str] | None = None) -> int:
         lines.append(f"| {kw['a'] / kw['b']:.3g} | {kw['nu']:.3f} | {kw['xi']:.3g} | "
                      f"{kw['eta']:.3g} | {kw['phi']:.3g} | {kw['mu']:.3g} | {kw['N']:.3g} | "
                      f"{eF[i]:.2f} | {eM[i]:.2f} |")
+    if hard:
+        tab_h = np.array([[r.Fx, r.Fy, r.Mz] for r in (cc.solve("table", **kw) for kw in hard)])
+        eF, eM = errs(tab_h, ref_hard, np.array([kw["mu"] * kw["N"] for kw in hard]),
+                      np.array([math.sqrt(kw["a"] * kw["b"]) for kw in hard]))
+        lines += ["", f"The hard region (module docstring): {len(hard)} cases, seed {a.seed + 1},"
+                  f" same reference ({t_hard:.0f} s). |F| error median / p95 / max "
+                  f"{np.median(eF):.2f} / {np.percentile(eF, 95):.2f} / {eF.max():.2f} % of μN; "
+                  f"Mz {np.median(eM):.2f} / {np.percentile(eM, 95):.2f} / {eM.max():.2f} % of "
+                  "μN·c. Largest Mz errors:", "",
+                  "| a/b | ν | ξ | η | φ (1/m) | μ | N | \\|F\\| err % | Mz err % |",
+                  "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        for i in np.argsort(eM)[-5:][::-1]:
+            kw = hard[i]
+            lines.append(f"| {kw['a'] / kw['b']:.3g} | {kw['nu']:.3f} | {kw['xi']:.3g} | "
+                         f"{kw['eta']:.3g} | {kw['phi']:.3g} | {kw['mu']:.3g} | {kw['N']:.3g} | "
+                         f"{eF[i]:.2f} | {eM[i]:.2f} |")
     text = "\n".join(lines) + "\n"
     Path(a.out).parent.mkdir(parents=True, exist_ok=True)
     Path(a.out).write_text(text, encoding="utf-8")
