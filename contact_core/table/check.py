@@ -34,51 +34,51 @@ GRIDS = (40, 48, 64, 80)
 _C, _G = 6e-3, 8e10
 
 
-def random_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
+def _shape(rng: np.random.Generator, axes) -> tuple[float, float]:
+    """a/b log-uniform and ν uniform over the table's ranges."""
+    ab = math.exp(rng.uniform(math.log(axes.ab_lo), math.log(axes.ab_hi)))
+    return ab, rng.uniform(axes.nu_lo, axes.nu_hi)
+
+
+def _state(rng: np.random.Generator, ab: float, nu: float, u: np.ndarray) -> dict[str, float]:
+    """The contact state of reduced creepage ``u`` (:mod:`.grid`) at a/b and ν, N and μ
+    log-uniform."""
     from ..coefficients import creep_coefficients
+    N = 10.0 ** rng.uniform(4.0, 5.3)
+    mu = 10.0 ** rng.uniform(-1.0, -0.3)
+    b = _C / math.sqrt(ab)
+    c11, c22, c23, _ = creep_coefficients(ab, nu)
+    xi, eta, phi = creepages_from_reduced(u, c11, c22, c23, _C, _G * _C * _C / (mu * N))
+    return {"xi": xi, "eta": eta, "phi": phi, "N": N, "mu": mu, "a": ab * b, "b": b, "G": _G,
+            "nu": nu}
+
+
+def random_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
     rng = np.random.default_rng(seed)
     out = []
     for _ in range(n):
-        ab = math.exp(rng.uniform(math.log(axes.ab_lo), math.log(axes.ab_hi)))
-        nu = rng.uniform(axes.nu_lo, axes.nu_hi)
+        ab, nu = _shape(rng, axes)
         d = rng.normal(size=3)
         d /= np.linalg.norm(d)
-        r = 10.0 ** rng.uniform(-3.0, 2.0)
-        N = 10.0 ** rng.uniform(4.0, 5.3)
-        mu = 10.0 ** rng.uniform(-1.0, -0.3)
-        b = _C / math.sqrt(ab)
-        a = ab * b
-        c11, c22, c23, _ = creep_coefficients(ab, nu)
-        xi, eta, phi = creepages_from_reduced(r * d, c11, c22, c23, _C, _G * _C * _C / (mu * N))
-        out.append({"xi": xi, "eta": eta, "phi": phi, "N": N, "mu": mu, "a": a, "b": b, "G": _G,
-                    "nu": nu})
+        out.append(_state(rng, ab, nu, 10.0 ** rng.uniform(-3.0, 2.0) * d))
     return out
 
 
 def hard_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
     """The hard region (module docstring): table coordinates (θ, ψ, s) sampled directly, ψ
     within one node spacing of 0 or π/2, s in [0.85, 0.999], random signs of ξ and η."""
-    from ..coefficients import creep_coefficients
     from .grid import node_reduced_creepage
     rng = np.random.default_rng(seed)
     dpsi = 0.5 * math.pi / (axes.n_psi - 1)
     out = []
     for _ in range(n):
-        ab = math.exp(rng.uniform(math.log(axes.ab_lo), math.log(axes.ab_hi)))
-        nu = rng.uniform(axes.nu_lo, axes.nu_hi)
+        ab, nu = _shape(rng, axes)
         theta = rng.uniform(0.0, math.pi)
         psi = rng.uniform(0.0, dpsi) if rng.integers(2) == 0 else rng.uniform(0.5 * math.pi - dpsi,
                                                                               0.5 * math.pi)
         u = node_reduced_creepage(theta, psi, rng.uniform(0.85, 0.999), axes.spin_weight(ab))
         u[:2] *= rng.choice([-1.0, 1.0], size=2)
-        N = 10.0 ** rng.uniform(4.0, 5.3)
-        mu = 10.0 ** rng.uniform(-1.0, -0.3)
-        b = _C / math.sqrt(ab)
-        a = ab * b
-        c11, c22, c23, _ = creep_coefficients(ab, nu)
-        xi, eta, phi = creepages_from_reduced(u, c11, c22, c23, _C, _G * _C * _C / (mu * N))
-        out.append({"xi": xi, "eta": eta, "phi": phi, "N": N, "mu": mu, "a": a, "b": b, "G": _G,
-                    "nu": nu})
+        out.append(_state(rng, ab, nu, u))
     return out
 
 
