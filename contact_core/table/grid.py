@@ -32,7 +32,7 @@ that the 33-node build's rays are reused (``build --reuse``). Measured on the ex
 afterwards (interpolation error alone: table against the exact solver at the nodes' own setting,
 2000 states sampled like ``check``'s hard region, |F| / Mz p95 and max): 33 θ: 0.56 / 0.43 and
 1.76 / 4.51; 65 θ: 0.46 / 0.23 and 1.69 / 3.68. What remains there is the ψ axis (``check``
-module docstring: x log|x| at ψ -> 0, π/2 with spin), for a ψ map that clusters nodes at both ends.
+module docstring), for a ψ map that clusters its nodes at both ends.
 
 Symmetries of the problem (exact theory, tests of ``contact_core.exact``): Fx is odd in ξ and Fy,
 Mz even; (η, φ) -> (-η, -φ) flips Fy and Mz and keeps Fx. So the table covers v_ξ >= 0, v_η >= 0
