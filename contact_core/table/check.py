@@ -12,7 +12,7 @@ A second, smaller set (``--hard``, seed + 1) samples the region where interpolat
 the uniform set rarely goes: near full sliding (s from 0.85 to 0.999) with the creepage direction
 within one ψ spacing of pure ξ or pure η (ψ near 0 or π/2), any θ. There, with spin, the forces
 turn steeply with ψ (measured at a/b = 10, s = 0.968 against the exact solver at the nodes'
-setting: 0.01-0.1 % of μN at the ψ nodes, 1.1 % between 81° and 90°), more than a cubic on the
+setting: 0.01-0.16 % of μN at the ψ nodes, 1.1 % between 81° and 90°), more than a cubic on the
 uniform ψ nodes follows.
 """
 from __future__ import annotations
