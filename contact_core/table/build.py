@@ -14,7 +14,8 @@ Tasks run on a Dask ``distributed`` cluster: a ``LocalCluster`` of ``--workers``
 once to the work folder (``--work``, default ``build/table_work/<digest of the configuration>``)
 as a numpy file, so an interrupted build resumes where it stopped; a progress bar counts rays.
 ``--reuse`` takes the finished rays of other builds' work folders whose node and exact setting
-are the same as one of this build's, e.g. when an axis is refined from n to 2n - 1 nodes.
+are the same as one of this build's, e.g. when an axis is refined from n to 2n - 1 nodes; like a
+resumed build, it assumes those rays were solved by the same exact-solver code.
 When every ray is there the table is assembled and written to ``--out`` (default
 ``contact_core/data``) with its metadata (:mod:`.data`): the command, the configuration, its
 digest, the build's wall time and the SHA-256 of the values. Nothing in the build is random: the
