@@ -165,28 +165,32 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
     return data.write(values, axes, meta, out)
 
 
-def _ray_key(cfg: dict[str, Any], axes: Axes, r: tuple[int, int, int, int]) -> tuple:
-    """What a ray's values depend on: its node, the magnitudes s, the spin weight and the exact
-    solver's options (the solver is deterministic; the canonical problem is in ``cfg``)."""
-    ab = float(axes.a_over_b()[r[0]])
-    return (ab, float(axes.nu()[r[1]]), float(axes.theta()[r[2]]), float(axes.psi()[r[3]]),
-            tuple(axes.s().tolist()), axes.spin_weight(ab),
-            tuple(sorted(node_options(cfg["exact"], ab).items())),
-            json.dumps(cfg["canonical"], sort_keys=True), cfg["format_version"])
+def _ray_keys(cfg: dict[str, Any], axes: Axes) -> dict[tuple, tuple[int, int, int, int]]:
+    """Every ray by what its values depend on: its node, the magnitudes s, the spin weight and the
+    exact solver's options (the solver is deterministic; the canonical problem is in ``cfg``)."""
+    ab, nu, th, ps = axes.a_over_b(), axes.nu(), axes.theta(), axes.psi()
+    common = (tuple(axes.s().tolist()), json.dumps(cfg["canonical"], sort_keys=True),
+              cfg["format_version"])
+    keys = {}
+    for r in rays(axes):
+        a = float(ab[r[0]])
+        keys[(a, float(nu[r[1]]), float(th[r[2]]), float(ps[r[3]]), axes.spin_weight(a),
+              tuple(sorted(node_options(cfg["exact"], a).items()))) + common] = r
+    return keys
 
 
 def reuse_rays(source: Path, axes: Axes, cfg: dict[str, Any], work: Path) -> int:
     """Copy into ``work`` the finished rays of the build whose work folder is ``source`` that
-    solved one of this build's rays (same :func:`_ray_key`, node values equal to the bit); returns
-    how many were copied."""
+    solved one of this build's rays (same :func:`_ray_keys` key, node values equal to the bit);
+    returns how many were copied."""
     src_cfg = json.loads((source / "config.json").read_text(encoding="utf-8"))
-    src_axes = Axes(**src_cfg["axes"])
-    wanted = {_ray_key(cfg, axes, r): r for r in rays(axes)}
+    wanted = _ray_keys(cfg, axes)
     work.mkdir(parents=True, exist_ok=True)
     copied = 0
-    for r in rays(src_axes):
-        target = wanted.get(_ray_key(src_cfg, src_axes, r))
-        if target is None or not _ray_file(source, r).is_file() or _ray_file(work, target).is_file():
+    for key, r in _ray_keys(src_cfg, Axes(**src_cfg["axes"])).items():
+        target = wanted.get(key)
+        done = _ray_file(work, target).is_file() if target is not None else True
+        if done or not _ray_file(source, r).is_file():
             continue
         _save_ray(_ray_file(work, target), np.load(_ray_file(source, r), allow_pickle=False))
         copied += 1
@@ -249,8 +253,14 @@ def main(argv: list[str] | None = None) -> int:
     work = Path(a.work) if a.work else Path("build") / "table_work" / digest(cfg)
     out = Path(a.out) if a.out else data.data_dir()
     # the command that reproduces the table: reused rays are the same values, solved earlier
-    kept = [x for i, x in enumerate(argv) if x != "--reuse" and (i == 0 or argv[i - 1] != "--reuse")
-            and not x.startswith("--reuse=")]
+    kept, skip = [], False
+    for x in argv:
+        if x == "--reuse":
+            skip = True
+        elif skip:
+            skip = False
+        elif not x.startswith("--reuse="):
+            kept.append(x)
     path = build(axes, a.grid, work, out, a.scheduler, a.workers, not a.no_progress,
                  command="python -m contact_core.table " + " ".join(kept), fine_grid=a.fine_grid,
                  coarse=coarse, reuse=[Path(d) for d in a.reuse])

@@ -174,7 +174,8 @@ def main(argv: list[str] | None = None) -> int:
     eF, eM = errs(tab)
     worst = np.argsort(eF)[-5:][::-1]
     lines += ["", f"Table cost / FASTSIM 10×10 cost: {us_table / us_fs:.2f} (each call a new a/b "
-              f"and ν); {us_table_same:.2f} / {us_fs_same:.2f} µs = {us_table_same / us_fs_same:.2f}"
+              f"and ν); {us_table_same:.2f} / {us_fs_same:.2f} µs = "
+              f"{us_table_same / us_fs_same:.2f}"
               " with the a/b and ν of the first case at every call, as in a simulation.", "",
               "The table per range of a/b (p95 / max):", "",
               "| a/b | cases | \\|F\\|, % of μN | Mz, % of μN·c |", "|---|---:|---:|---:|"]

@@ -2,7 +2,8 @@
 
 Interpolation is local and piecewise cubic: on each uniform axis the four nearest nodes with
 Lagrange's weights (one-sided at the ends), tensor product over ln(a/b), θ, ψ and s, linear in ν
-(two nodes; an axis of fewer than 4 nodes is linear, which θ, ψ and s never are: ``grid.Axes``). scipy's ``RegularGridInterpolator`` on the same table costs 0.1-0.8 ms per point
+(two nodes; an axis of fewer than 4 nodes is linear, which θ, ψ and s never are: ``grid.Axes``).
+scipy's ``RegularGridInterpolator`` on the same table costs 0.1-0.8 ms per point
 (measured on this table: cubic 96 µs, linear 770 µs, a loaded 2-core machine), far over the
 method's per-call budget; these kernels cost about a µs.
 
