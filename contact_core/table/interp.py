@@ -3,6 +3,11 @@
 Interpolation is local and piecewise cubic: on each uniform axis the four nearest nodes with
 Lagrange's weights (one-sided at the ends), tensor product over ln(a/b), θ, ψ and s, linear in ν
 (two nodes; an axis of fewer than 4 nodes is linear, which θ, ψ and s never are: ``grid.Axes``).
+ψ is extended by one node beyond each end with the symmetries of the problem (:mod:`.grid`),
+:func:`with_psi_ghosts`, so that its stencil is always central: ξ -> -ξ maps ψ to π - ψ and
+flips Fx; (η, φ) -> -(η, φ) maps (θ, ψ) to (π - θ, -ψ) and flips Fy and Mz. On the 2000 held-out
+states of ``check``'s hard region (ψ near 0 or π/2, near full sliding) this took the largest |F|
+error from 1.43 to 1.09 % of μN and Mz from 1.32 to 1.20 % of μN c.
 scipy's ``RegularGridInterpolator`` on the same table costs 0.1-0.8 ms per point
 (measured on this table: cubic 96 µs, linear 770 µs, a loaded 2-core machine), far over the
 method's per-call budget; these kernels cost about a µs.
@@ -34,6 +39,16 @@ def _weights(x: float, lo: float, h: float, n: int) -> tuple[int, float, float, 
     p = t - i0
     return (i0, -(p - 1.0) * (p - 2.0) * (p - 3.0) / 6.0, p * (p - 2.0) * (p - 3.0) / 2.0,
             -p * (p - 1.0) * (p - 3.0) / 2.0, p * (p - 1.0) * (p - 2.0) / 6.0)
+
+
+def with_psi_ghosts(values: np.ndarray) -> np.ndarray:
+    """The table (n_ab, n_ν, n_θ, n_ψ, n_s, 4) with one ψ node added before 0 and after π/2 from
+    the symmetries (module docstring): shape (..., n_ψ + 2, ...); its ψ axis starts at -h."""
+    below = values[:, :, ::-1, 1:2].copy()         # (θ, -h) <- (π - θ, h), Fy and Mz flipped
+    below[..., 1:3] *= -1.0
+    above = values[:, :, :, -2:-1].copy()           # π/2 + h <- π/2 - h, Fx flipped
+    above[..., 0] *= -1.0
+    return np.ascontiguousarray(np.concatenate([below, values, above], axis=3))
 
 
 def _polar(u0: float, u1: float, u2: float) -> tuple[float, float, float, float, float]:
@@ -72,8 +87,9 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
             log_ab: float, nu: float) -> tuple[float, float, float, float]:
     """(Fx/(μN), Fy/(μN), Mz/(μN c), slip fraction) at the table coordinates (u0, u1, u2)
     (module :mod:`.grid`). ``values``: on the nodes (g0, g1, g2, slip fraction), shape
-    (n_ab, n_nu, n_θ, n_ψ, n_s, 4), C-contiguous; ``axes`` (2, 5): the start and the step of the
-    five axes. Nothing is written outside the call (thread-safe).
+    (n_ab, n_nu, n_θ, n_ψ + 2, n_s, 4) (:func:`with_psi_ghosts`), C-contiguous; ``axes`` (2, 5):
+    the start and the step of the five axes (ψ from the ghost node). Nothing is written outside
+    the call (thread-safe).
 
     Each node of the (θ, ψ, s) stencil is first interpolated at (a/b, ν), summed in the order of
     :func:`_make_slice`, then :func:`_cube` sums the nodes: the result is the same to the bit as

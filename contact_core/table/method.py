@@ -34,7 +34,7 @@ from ..exact import Exact
 from ..linear import LinearTheory
 from ..result import make_result
 from . import data
-from .interp import kernels
+from .interp import kernels, with_psi_ghosts
 
 
 #: a/b is accepted within a few ulps outside the axis (a and b rescaled by a common factor give
@@ -69,8 +69,10 @@ class Table(ContactMethod):
         if folder is not None and not isinstance(folder, str):
             raise ValueError(f"folder={folder!r} is invalid: allowed None or a folder name")
         t = data.load(folder)
-        self._values = t.values
-        self._axes = np.array([t.lo, t.h])
+        self._values = with_psi_ghosts(t.values)
+        lo = t.lo.copy()
+        lo[3] -= t.h[3]                     # the ghost node before ψ = 0
+        self._axes = np.array([lo, t.h])
         ax = t.axes
         self._spin_weight = ax.spin_weight
         self._ab_range = (ax.ab_lo, ax.ab_hi)
