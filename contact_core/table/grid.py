@@ -75,7 +75,7 @@ class Axes:
     nu_hi: float = 0.30
     n_nu: int = 2
     n_theta: int = 65
-    n_psi: int = 11
+    n_psi: int = 21
     n_s: int = 32
     spin_power: float = 0.8
 
