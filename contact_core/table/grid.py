@@ -45,6 +45,13 @@ max: this table 0.33 / 0.14 and 2.08 / 1.17 %; the pole angle 1.70 / 6.88 and 5.
 a fixed distance the pole turns about the centre within a few degrees of ψ near pure ξ (at
 a/b = 0.1 the pole's lateral position is 13 times as sensitive to η as its longitudinal one to
 ξ), which the ψ nodes do not follow.
+Hence 21 ψ nodes, 2 × 11 - 1 (the 11-node build's rays reused). Measured on the exact solver
+(80×80 extrapolated at a/b = 0.1, 48×48 at a/b = 10) along ψ over the 27° next to an end, at
+fixed θ and s taken from the worst states above, cubic interpolation with the ghost nodes, |F|
+max in % of μN, four lines: 11 uniform nodes 2.25, 0.73, 1.59, 1.02; 21 uniform 0.42, 0.09,
+0.58, 0.22; 11 nodes clustered at both ends (ψ = (π/4)(1 - cos πχ), χ uniform) 0.87, 0.96,
+0.47, 0.29; 15 such nodes 0.54, 0.30, 0.21, 0.34. (Mz: 0.19-0.68 with 11 uniform nodes,
+0.09-0.31 with 21.)
 
 Symmetries of the problem (exact theory, tests of ``contact_core.exact``): Fx is odd in ξ and Fy,
 Mz even; (η, φ) -> (-η, -φ) flips Fy and Mz and keeps Fx. So the table covers v_ξ >= 0, v_η >= 0
