@@ -51,7 +51,11 @@ fixed θ and s taken from the worst states above, cubic interpolation with the g
 max in % of μN, four lines: 11 uniform nodes 2.25, 0.73, 1.59, 1.02; 21 uniform 0.42, 0.09,
 0.58, 0.22; 11 nodes clustered at both ends (ψ = (π/4)(1 - cos πχ), χ uniform) 0.87, 0.96,
 0.47, 0.29; 15 such nodes 0.54, 0.30, 0.21, 0.34. (Mz: 0.19-0.68 with 11 uniform nodes,
-0.09-0.31 with 21.)
+0.09-0.31 with 21.) On the row a/b = 0.1, ν = 0.25 of the 21-node build and the same 240
+states as the pole-angle trial above (|F| / Mz, p95 and max): random directions 11 nodes 0.18 /
+0.03 and 0.33 / 0.14, 21 nodes 0.18 / 0.03 and 0.34 / 0.14; hard region 11 nodes 0.50 / 0.19 and
+2.08 / 1.17, 21 nodes 0.31 / 0.27 and 0.81 / 1.07 (there the exact solver's own scatter from
+state to state, with the spin pole inside the contact, is a few tenths of a %).
 
 Symmetries of the problem (exact theory, tests of ``contact_core.exact``): Fx is odd in ξ and Fy,
 Mz even; (η, φ) -> (-η, -φ) flips Fy and Mz and keeps Fx. So the table covers v_ξ >= 0, v_η >= 0
