@@ -29,6 +29,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..base import ContactMethod
+from ..cache import cached
 from ..coefficients import creep_coefficients
 from ..exact import Exact
 from ..linear import LinearTheory
@@ -44,6 +45,18 @@ _EDGE_LO, _EDGE_HI = 1.0 - 1e-12, 1.0 + 1e-12
 #: 3-D slice (:func:`.interp._make_slice`, 0.87 MB for the shipped table) for at most
 #: ``_MAX_SLICES`` of them, made at a pair's second call.
 _MAX_PAIRS, _MAX_SLICES = 64, 8
+
+
+@cached(4)
+def _kernel_arrays(folder: str | None) -> tuple[np.ndarray, np.ndarray]:
+    """The table of ``folder`` as the kernels read it (:func:`.interp.with_psi_ghosts`, read-only)
+    and its axes (start and step; ψ from the ghost node): one copy shared by every solver."""
+    t = data.load(folder)
+    values = with_psi_ghosts(t.values)
+    values.setflags(write=False)
+    lo = t.lo.copy()
+    lo[3] -= t.h[3]                         # the ghost node before ψ = 0
+    return values, np.array([lo, t.h])
 
 
 class TableDomainWarning(RuntimeWarning):
@@ -69,10 +82,7 @@ class Table(ContactMethod):
         if folder is not None and not isinstance(folder, str):
             raise ValueError(f"folder={folder!r} is invalid: allowed None or a folder name")
         t = data.load(folder)
-        self._values = with_psi_ghosts(t.values)
-        lo = t.lo.copy()
-        lo[3] -= t.h[3]                     # the ghost node before ψ = 0
-        self._axes = np.array([lo, t.h])
+        self._values, self._axes = _kernel_arrays(folder)
         ax = t.axes
         self._spin_weight = ax.spin_weight
         self._ab_range = (ax.ab_lo, ax.ab_hi)
