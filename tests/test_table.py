@@ -84,6 +84,19 @@ def test_small_creepage_is_kalkers_linear_theory(ab):
         assert math.hypot(tab.Fx - lin.Fx, tab.Fy - lin.Fy) < 0.01 * scale, (xi, eta, phi)
 
 
+@pytest.mark.parametrize("ab", [0.1, 0.3, 1.0, 3.3])
+@pytest.mark.parametrize("psi_deg", [3.0, 87.0])
+def test_near_pure_creepage_each_force_is_kalkers_linear_theory(ab, psi_deg):
+    # Small creepage 3° from pure ξ or pure η: the ψ stencil reaches beyond 0 or 90° (nodes made
+    # from the symmetries); each component, even the small one, is the linear theory's.
+    a, b = _patch(ab)
+    kw = dict(xi=1e-7 * math.cos(math.radians(psi_deg)), eta=1e-7 * math.sin(math.radians(psi_deg)),
+              phi=0.0, N=N, mu=MU, a=a, b=b, G=G, nu=0.28)
+    tab, lin = cc.solve("table", **kw), cc.solve("linear", **kw)
+    assert tab.Fx == pytest.approx(lin.Fx, rel=0.01)
+    assert tab.Fy == pytest.approx(lin.Fy, rel=0.01)
+
+
 @pytest.mark.parametrize("xi, eta", [(0.2, 0.0), (0.0, -0.3), (0.1, 0.1), (-0.05, 0.2)])
 def test_full_sliding_is_mu_n_opposite_the_creepage(xi, eta):
     a, b = _patch(0.7)
