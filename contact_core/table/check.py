@@ -14,6 +14,13 @@ within 9° (``HARD_PSI``) of pure ξ or pure η (ψ near 0 or π/2), any θ. The
 turn steeply with ψ (measured at a/b = 10, s = 0.968 against the exact solver at the nodes'
 setting: 0.01-0.16 % of μN at the ψ nodes, 1.1 % between 81° and 90°), more than a cubic on the
 uniform ψ nodes follows.
+
+A third set (``--spin``, seed + 2) samples the band where the lateral force of a large spin
+peaks: a/b from 1 to 10, the direction within 30° of pure spin, s from 0.3 to 0.65. There, at
+a/b = 10, the slip fraction jumps from about 0.3 to 0.8 within Δs = 0.01 at a place that moves with
+the grid, and the two-grid extrapolation of the exact solver (m with m/2) can straddle the jump:
+at a/b = 10, θ = 171.6°, s = 0.452, 48×48 extrapolated gives Fy = 0.950 μN where single grids of
+40 to 96 give 0.906-0.911 μN. The reference fit over four single grids stays smooth there.
 """
 from __future__ import annotations
 
@@ -86,6 +93,26 @@ def hard_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
     return out
 
 
+def spin_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
+    """The band of the spin force's peak (module docstring): a/b log-uniform from 1 to the
+    table's end, the angle of v to the spin axis within 30° of 0 or π, ψ uniform, s in
+    [0.3, 0.65], random signs of ξ and η."""
+    from .grid import node_reduced_creepage
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        ab = math.exp(rng.uniform(0.0, math.log(axes.ab_hi)))
+        nu = rng.uniform(axes.nu_lo, axes.nu_hi)
+        theta = rng.uniform(0.0, math.pi / 6)
+        if rng.integers(2):
+            theta = math.pi - theta
+        u = node_reduced_creepage(theta, rng.uniform(0.0, 0.5 * math.pi), rng.uniform(0.3, 0.65),
+                                  axes.spin_weight(ab))
+        u[:2] *= rng.choice([-1.0, 1.0], size=2)
+        out.append(_state(rng, ab, nu, u))
+    return out
+
+
 def references(cases, scheduler=None, workers=None, progress=True) -> np.ndarray:
     """(Fx, Fy, Mz) extrapolated to zero element size per case (module docstring)."""
     sols = grid_solutions(cases, GRIDS, jobs=workers or os.cpu_count() or 1, scheduler=scheduler,
@@ -110,6 +137,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--no-progress", action="store_true")
     p.add_argument("--hard", type=int, default=2000, help="cases of the hard region (module "
                    "docstring; 0: none)")
+    p.add_argument("--spin", type=int, default=300, help="cases of the spin band (module "
+                   "docstring; 0: none)")
     p.add_argument("--references-only", action="store_true",
                    help="compute and keep the references (build/), no table needed yet")
     a = p.parse_args(argv)
@@ -128,8 +157,13 @@ def main(argv: list[str] | None = None) -> int:
 
     cases = random_cases(a.cases, a.seed, AXES["full"])
     ref, t_ref = kept_references(cases, f"{a.cases}_{a.seed}")
-    hard = hard_cases(a.hard, a.seed + 1, AXES["full"])
-    ref_hard, t_hard = kept_references(hard, f"hard_{a.hard}_{a.seed + 1}") if hard else (None, 0)
+    extra = []              # the further sets (module docstring): name, title, cases, seed
+    for k, (name, title, make, n) in enumerate((("hard", "The hard region", hard_cases, a.hard),
+                                                ("spin", "The spin band", spin_cases, a.spin)), 1):
+        if n > 0:
+            extra.append((name, title, make(n, a.seed + k, AXES["full"]), a.seed + k))
+    extra_refs = [kept_references(cases_k, f"{name}_{len(cases_k)}_{seed}")
+                  for name, _, cases_k, seed in extra]
     if a.references_only:
         return 0
     t = data.load()
@@ -200,19 +234,20 @@ def main(argv: list[str] | None = None) -> int:
         lines.append(f"| {kw['a'] / kw['b']:.3g} | {kw['nu']:.3f} | {kw['xi']:.3g} | "
                      f"{kw['eta']:.3g} | {kw['phi']:.3g} | {kw['mu']:.3g} | {kw['N']:.3g} | "
                      f"{eF[i]:.2f} | {eM[i]:.2f} |")
-    if hard:
-        tab_h = np.array([[r.Fx, r.Fy, r.Mz] for r in (cc.solve("table", **kw) for kw in hard)])
-        eF, eM = errs(tab_h, ref_hard, np.array([kw["mu"] * kw["N"] for kw in hard]),
-                      np.array([math.sqrt(kw["a"] * kw["b"]) for kw in hard]))
-        lines += ["", f"The hard region (module docstring): {len(hard)} cases, seed {a.seed + 1},"
-                  f" same reference ({t_hard:.0f} s). |F| error median / p95 / max "
+    for (name, title, cases_k, seed), (ref_k, t_k) in zip(extra, extra_refs):
+        tab_k = np.array([[r.Fx, r.Fy, r.Mz] for r in (cc.solve("table", **kw)
+                                                        for kw in cases_k)])
+        eF, eM = errs(tab_k, ref_k, np.array([kw["mu"] * kw["N"] for kw in cases_k]),
+                      np.array([math.sqrt(kw["a"] * kw["b"]) for kw in cases_k]))
+        lines += ["", f"{title} (module docstring): {len(cases_k)} cases, seed {seed}, same "
+                  f"reference ({t_k:.0f} s). |F| error median / p95 / max "
                   f"{np.median(eF):.2f} / {np.percentile(eF, 95):.2f} / {eF.max():.2f} % of μN; "
                   f"Mz {np.median(eM):.2f} / {np.percentile(eM, 95):.2f} / {eM.max():.2f} % of "
                   "μN·c. Largest Mz errors:", "",
                   "| a/b | ν | ξ | η | φ (1/m) | μ | N | \\|F\\| err % | Mz err % |",
                   "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
         for i in np.argsort(eM)[-5:][::-1]:
-            kw = hard[i]
+            kw = cases_k[i]
             lines.append(f"| {kw['a'] / kw['b']:.3g} | {kw['nu']:.3f} | {kw['xi']:.3g} | "
                          f"{kw['eta']:.3g} | {kw['phi']:.3g} | {kw['mu']:.3g} | {kw['N']:.3g} | "
                          f"{eF[i]:.2f} | {eM[i]:.2f} |")
