@@ -54,9 +54,9 @@ max in % of μN, four lines: 11 uniform nodes 2.25, 0.73, 1.59, 1.02; 21 uniform
 0.09-0.31 with 21.) On the row a/b = 0.1, ν = 0.25 of the 21-node build and the same 240
 states as the pole-angle trial above (|F| / Mz, p95 and max): random directions 11 nodes 0.18 /
 0.03 and 0.33 / 0.14, 21 nodes 0.18 / 0.03 and 0.34 / 0.14; hard region 11 nodes 0.50 / 0.19 and
-2.08 / 1.17, 21 nodes 0.31 / 0.27 and 0.81 / 1.07 (the reference itself scatters: with the spin pole inside the
-contact, the exact solver's values 0.35° apart in θ had second differences of 0.2-0.4 % of μN at
-a/b = 0.195).
+2.08 / 1.17, 21 nodes 0.31 / 0.27 and 0.81 / 1.07 (the reference itself scatters: with the
+spin pole inside the contact, the exact solver's values 0.35° apart in θ had second differences
+of 0.2-0.4 % of μN at a/b = 0.195).
 
 Symmetries of the problem (exact theory, tests of ``contact_core.exact``): Fx is odd in ξ and Fy,
 Mz even; (η, φ) -> (-η, -φ) flips Fy and Mz and keeps Fx. So the table covers v_ξ >= 0, v_η >= 0
