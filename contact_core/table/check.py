@@ -75,21 +75,27 @@ def random_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
     return out
 
 
+def _state_at(rng: np.random.Generator, axes, ab: float, nu: float, theta: float, psi: float,
+              s: float) -> dict[str, float]:
+    """The state at table coordinates (θ, ψ, s) (θ the angle of v to the spin axis), with random
+    signs of ξ and η."""
+    from .grid import node_reduced_creepage
+    u = node_reduced_creepage(theta, psi, s, axes.spin_weight(ab))
+    u[:2] *= rng.choice([-1.0, 1.0], size=2)
+    return _state(rng, ab, nu, u)
+
+
 def hard_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
     """The hard region (module docstring): table coordinates (θ, ψ, s) sampled directly, ψ
     within ``HARD_PSI`` of 0 or π/2, s in [0.85, 0.999], random signs of ξ and η."""
-    from .grid import node_reduced_creepage
     rng = np.random.default_rng(seed)
-    dpsi = HARD_PSI
     out = []
     for _ in range(n):
         ab, nu = _shape(rng, axes)
         theta = rng.uniform(0.0, math.pi)
-        psi = rng.uniform(0.0, dpsi) if rng.integers(2) == 0 else rng.uniform(0.5 * math.pi - dpsi,
-                                                                              0.5 * math.pi)
-        u = node_reduced_creepage(theta, psi, rng.uniform(0.85, 0.999), axes.spin_weight(ab))
-        u[:2] *= rng.choice([-1.0, 1.0], size=2)
-        out.append(_state(rng, ab, nu, u))
+        psi = (rng.uniform(0.0, HARD_PSI) if rng.integers(2) == 0
+               else rng.uniform(0.5 * math.pi - HARD_PSI, 0.5 * math.pi))
+        out.append(_state_at(rng, axes, ab, nu, theta, psi, rng.uniform(0.85, 0.999)))
     return out
 
 
@@ -97,7 +103,6 @@ def spin_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
     """The band of the spin force's peak (module docstring): a/b log-uniform from 1 to the
     table's end, the angle of v to the spin axis within 30° of 0 or π, ψ uniform, s in
     [0.3, 0.65], random signs of ξ and η."""
-    from .grid import node_reduced_creepage
     rng = np.random.default_rng(seed)
     out = []
     for _ in range(n):
@@ -106,10 +111,8 @@ def spin_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
         theta = rng.uniform(0.0, math.pi / 6)
         if rng.integers(2):
             theta = math.pi - theta
-        u = node_reduced_creepage(theta, rng.uniform(0.0, 0.5 * math.pi), rng.uniform(0.3, 0.65),
-                                  axes.spin_weight(ab))
-        u[:2] *= rng.choice([-1.0, 1.0], size=2)
-        out.append(_state(rng, ab, nu, u))
+        psi = rng.uniform(0.0, 0.5 * math.pi)
+        out.append(_state_at(rng, axes, ab, nu, theta, psi, rng.uniform(0.3, 0.65)))
     return out
 
 
