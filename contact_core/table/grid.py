@@ -45,6 +45,18 @@ max: this table 0.33 / 0.14 and 2.08 / 1.17 %; the pole angle 1.70 / 6.88 and 5.
 a fixed distance the pole turns about the centre within a few degrees of ψ near pure ξ (at
 a/b = 0.1 the pole's lateral position is 13 times as sensitive to η as its longitudinal one to
 ξ), which the ψ nodes do not follow.
+Hence 21 ψ nodes, 2 × 11 - 1 (the 11-node build's rays reused). Measured on the exact solver
+(80×80 extrapolated at a/b = 0.1, 48×48 at a/b = 10) along ψ over the 27° next to an end, at
+fixed θ and s taken from the worst states above, cubic interpolation with the ghost nodes, |F|
+max in % of μN, four lines: 11 uniform nodes 2.25, 0.73, 1.59, 1.02; 21 uniform 0.42, 0.09,
+0.58, 0.22; 11 nodes clustered at both ends (ψ = (π/4)(1 - cos πχ), χ uniform) 0.87, 0.96,
+0.47, 0.29; 15 such nodes 0.54, 0.30, 0.21, 0.34. (Mz: 0.19-0.68 with 11 uniform nodes,
+0.09-0.31 with 21.) On the row a/b = 0.1, ν = 0.25 of the 21-node build and the same 240
+states as the pole-angle trial above (|F| / Mz, p95 and max): random directions 11 nodes 0.18 /
+0.03 and 0.33 / 0.14, 21 nodes 0.18 / 0.03 and 0.34 / 0.14; hard region 11 nodes 0.50 / 0.19 and
+2.08 / 1.17, 21 nodes 0.31 / 0.27 and 0.81 / 1.07 (the reference itself scatters: with the
+spin pole inside the contact, the exact solver's values 0.35° apart in θ had second differences
+of 0.2-0.4 % of μN at a/b = 0.195).
 
 Symmetries of the problem (exact theory, tests of ``contact_core.exact``): Fx is odd in ξ and Fy,
 Mz even; (η, φ) -> (-η, -φ) flips Fy and Mz and keeps Fx. So the table covers v_ξ >= 0, v_η >= 0
@@ -83,7 +95,7 @@ class Axes:
     nu_hi: float = 0.30
     n_nu: int = 2
     n_theta: int = 65
-    n_psi: int = 11
+    n_psi: int = 21
     n_s: int = 32
     spin_power: float = 0.8
 
