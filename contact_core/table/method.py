@@ -42,7 +42,7 @@ from .interp import kernels, with_psi_ghosts
 #: an a/b that differs in its last digits).
 _EDGE_LO, _EDGE_HI = 1.0 - 1e-12, 1.0 + 1e-12
 #: Kept per solver: the scales of at most ``_MAX_PAIRS`` (a/b, ν) pairs (then forgotten), and a
-#: 3-D slice (:func:`.interp._make_slice`, 0.87 MB for the shipped table) for at most
+#: 3-D slice (:func:`.interp._make_slice`, 1.5 MB for the shipped table) for at most
 #: ``_MAX_SLICES`` of them, made at a pair's second call.
 _MAX_PAIRS, _MAX_SLICES = 64, 8
 
