@@ -127,6 +127,19 @@ def references(cases, scheduler=None, workers=None, progress=True) -> np.ndarray
     return out
 
 
+def errors(cases, ref: np.ndarray, method: str, **options) -> tuple[np.ndarray, np.ndarray]:
+    """|F| errors in % of μN and Mz errors in % of μN·c of ``method`` on ``cases`` against
+    ``ref`` ((Fx, Fy, Mz) per case, :func:`references`)."""
+    import contact_core as cc
+    res = np.array([[r.Fx, r.Fy, r.Mz] for r in (cc.solve(method, **kw, **options)
+                                                  for kw in cases)])
+    mun = np.array([kw["mu"] * kw["N"] for kw in cases])
+    c = np.array([math.sqrt(kw["a"] * kw["b"]) for kw in cases])
+    eF = np.hypot(res[:, 0] - ref[:, 0], res[:, 1] - ref[:, 1]) / mun * 100
+    eM = np.abs(res[:, 2] - ref[:, 2]) / (mun * c) * 100
+    return eF, eM
+
+
 def main(argv: list[str] | None = None) -> int:
     import contact_core as cc
     from . import data
@@ -170,16 +183,8 @@ def main(argv: list[str] | None = None) -> int:
     if a.references_only:
         return 0
     t = data.load()
-    tab = np.array([[r.Fx, r.Fy, r.Mz] for r in (cc.solve("table", **kw) for kw in cases)])
-    fs = np.array([[r.Fx, r.Fy, r.Mz] for r in
-                   (cc.solve("fastsim", **kw, nx=10, ny=10) for kw in cases)])
-    mun = np.array([kw["mu"] * kw["N"] for kw in cases])
-    c = np.array([math.sqrt(kw["a"] * kw["b"]) for kw in cases])
-
-    def errs(res, ref=ref, mun=mun, c=c):
-        eF = np.hypot(res[:, 0] - ref[:, 0], res[:, 1] - ref[:, 1]) / mun * 100
-        eM = np.abs(res[:, 2] - ref[:, 2]) / (mun * c) * 100
-        return eF, eM
+    err_table = errors(cases, ref, "table")
+    err_fastsim = errors(cases, ref, "fastsim", nx=10, ny=10)
 
     # cost per call, both methods in this run (median of 5 passes over 200 cases); "new": every
     # pass moves a/b in its last digits, so no call meets an a/b seen before (nothing cached: as
@@ -212,12 +217,12 @@ def main(argv: list[str] | None = None) -> int:
              f"`{t.meta.get('command', '?')}`.", "",
              "| method | \\|F\\| error median / p95 / max, % of μN | Mz error median / p95 / "
              "max, % of μN·c | µs per solve call |", "|---|---:|---:|---:|"]
-    for name, res, us in (("table", tab, us_table), ("FASTSIM 10×10", fs, us_fs)):
-        eF, eM = errs(res)
+    for name, (eF, eM), us in (("table", err_table, us_table),
+                               ("FASTSIM 10×10", err_fastsim, us_fs)):
         lines.append(f"| {name} | {np.median(eF):.2f} / {np.percentile(eF, 95):.2f} / "
                      f"{eF.max():.2f} | {np.median(eM):.2f} / {np.percentile(eM, 95):.2f} / "
                      f"{eM.max():.2f} | {us:.2f} |")
-    eF, eM = errs(tab)
+    eF, eM = err_table
     worst = np.argsort(eF)[-5:][::-1]
     lines += ["", f"Table cost / FASTSIM 10×10 cost: {us_table / us_fs:.2f} (each call a new a/b "
               f"and ν); {us_table_same:.2f} / {us_fs_same:.2f} µs = "
@@ -243,10 +248,7 @@ def main(argv: list[str] | None = None) -> int:
                      f"{kw['eta']:.3g} | {kw['phi']:.3g} | {kw['mu']:.3g} | {kw['N']:.3g} | "
                      f"{eF[i]:.2f} | {eM[i]:.2f} |")
     for (name, title, cases_k, seed), (ref_k, t_k) in zip(extra, extra_refs):
-        tab_k = np.array([[r.Fx, r.Fy, r.Mz] for r in (cc.solve("table", **kw)
-                                                        for kw in cases_k)])
-        eF, eM = errs(tab_k, ref_k, np.array([kw["mu"] * kw["N"] for kw in cases_k]),
-                      np.array([math.sqrt(kw["a"] * kw["b"]) for kw in cases_k]))
+        eF, eM = errors(cases_k, ref_k, "table")
         lines += ["", f"{title} (module docstring): {len(cases_k)} cases, seed {seed}, same "
                   f"reference ({t_k:.0f} s). |F| error median / p95 / max "
                   f"{np.median(eF):.2f} / {np.percentile(eF, 95):.2f} / {eF.max():.2f} % of μN; "
