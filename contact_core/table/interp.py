@@ -91,9 +91,10 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
     the start and the step of the five axes (ψ from the ghost node). Nothing is written outside
     the call (thread-safe).
 
-    Each node of the (θ, ψ, s) stencil is first interpolated at (a/b, ν), summed in the order of
-    :func:`_make_slice`, then :func:`_cube` sums the nodes: the result is the same to the bit as
-    :func:`_lookup_slice` on the slice, whichever path a call takes."""
+    The 64 nodes of the (θ, ψ, s) stencil are first interpolated at (a/b, ν), summed in the
+    order of :func:`_make_slice` (each value from 0.0, over a/b then ν), then :func:`_cube` sums
+    the nodes: the result is the same to the bit as :func:`_lookup_slice` on the slice,
+    whichever path a call takes."""
     sx, sy, theta, psi, s = _polar(u0, u1, u2)
     if s == 0.0:
         return 0.0, 0.0, 0.0, 0.0
@@ -106,37 +107,23 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
     st_t = shape[3] * st_p
     st_n = shape[2] * st_t
     st_a = shape[1] * st_n
-    flat = values.reshape(-1)            # a view (C-contiguous): plain offsets, no sub-arrays
-    local = np.empty(256)                # the stencil's 4 x 4 x 4 nodes at (a/b, ν)
-    j = 0
-    for t in range(4):
-        for p in range(4):
-            for k in range(4):
-                local[j:j + 4] = _node_at_pair(flat, (it + t) * st_t + (ip + p) * st_p
-                                               + (js + k) * 4, ia, wa, na, st_a, inu, wn, nn,
-                                               st_n)
-                j += 4
-    g0, g1, g2, g3 = _cube(local, 0, 4, 4, 4, 0, wt, 0, wp, 0, wk)
-    return _finish(sx, sy, s, g0, g1, g2, g3)
-
-
-def _node_at_pair(flat: np.ndarray, o: int, ia: int, wa: tuple, na: int, st_a: int, inu: int,
-                  wn: tuple, nn: int, st_n: int) -> tuple[float, float, float, float]:
-    """The 4 values of the (θ, ψ, s) node at offset ``o`` interpolated at (a/b, ν), summed in the
-    order of :func:`_make_slice`."""
-    n0 = 0.0
-    n1 = 0.0
-    n2 = 0.0
-    n3 = 0.0
+    flat = values.reshape(-1)            # a view (C-contiguous): plain offsets
+    local = np.zeros(256)                # the stencil's 4 x 4 x 4 nodes at (a/b, ν)
     for a in range(na):
         for b in range(nn):
             w = wa[a] * wn[b]
-            q = (ia + a) * st_a + (inu + b) * st_n + o
-            n0 += w * flat[q]
-            n1 += w * flat[q + 1]
-            n2 += w * flat[q + 2]
-            n3 += w * flat[q + 3]
-    return n0, n1, n2, n3
+            base = (ia + a) * st_a + (inu + b) * st_n + js * 4
+            j = 0
+            for t in range(4):
+                for p in range(4):
+                    o = base + (it + t) * st_t + (ip + p) * st_p
+                    src = flat[o:o + 16]     # 4 s nodes x 4 values, contiguous; views, which
+                    dst = local[j:j + 16]    # the compiler vectorises (1.0 against 1.6 µs)
+                    for m in range(16):
+                        dst[m] += w * src[m]
+                    j += 16
+    g0, g1, g2, g3 = _cube(local, 0, 4, 4, 4, 0, wt, 0, wp, 0, wk)
+    return _finish(sx, sy, s, g0, g1, g2, g3)
 
 
 def _count(n: int) -> int:
@@ -226,13 +213,12 @@ def kernels() -> tuple[Callable, Callable, Callable]:
     imported on first use; cached on disk). Every function of this module is replaced by its
     compiled version (module attributes, as numba's cache statistics expect)."""
     global _JITTED, _weights, _count, _polar, _finish, _pair_stencil, _stencil, _cube
-    global _node_at_pair, _lookup, _make_slice, _lookup_slice
+    global _lookup, _make_slice, _lookup_slice
     if not _JITTED:
         import numba
         jit = numba.njit(cache=True, nogil=True, error_model="numpy")
         _weights, _count, _polar, _finish = jit(_weights), jit(_count), jit(_polar), jit(_finish)
         _pair_stencil, _stencil, _cube = jit(_pair_stencil), jit(_stencil), jit(_cube)
-        _node_at_pair = jit(_node_at_pair)
         _lookup, _make_slice, _lookup_slice = jit(_lookup), jit(_make_slice), jit(_lookup_slice)
         _JITTED = True
     return _lookup, _make_slice, _lookup_slice
