@@ -18,7 +18,8 @@ import pytest
 
 import contact_core as cc
 from contact_core.table import TableDomainWarning, data
-from contact_core.table.build import (AXES, build, config, node_options, rays, reuse_rays,
+from contact_core.table.build import (AXES, DEFAULT_FINE_GRID, DEFAULT_GRID, FINE_INSIDE,
+                                      WIDE_ABOVE, build, config, node_options, rays, reuse_rays,
                                       solve_ray)
 from contact_core.table.grid import Axes, creepages_from_reduced, node_reduced_creepage
 
@@ -72,7 +73,7 @@ def test_random_nodes_equal_the_exact_solver():
 
 @pytest.mark.parametrize("ab", [0.1, 0.3, 1.0, 3.3, pytest.param(10.0, marks=pytest.mark.xfail(
     strict=True, reason="the shipped nodes at a/b = 10 are exact 48x48 extrapolated, C22 +1.6 %; "
-    "the build's default solves them at 80x80 (C22 +0.2 %), not shipped yet (issue 16)"))])
+    "96x48 (--wide-above) +1.2 %, 80x80 (--fine-above) +0.2 % at 9 s per ray (issue 16)"))])
 def test_small_creepage_is_kalkers_linear_theory(ab):
     a, b = _patch(ab)
     kw = dict(N=N, mu=MU, a=a, b=b, G=G, nu=0.28)
@@ -197,7 +198,8 @@ def test_build_pipeline_is_resumable_and_reproducible(tmp_path):
     assert first.read_bytes() == second.read_bytes()
     t = data.load(str(tmp_path / "t2"))
     ray = solve_ray(float(axes.a_over_b()[1]), float(axes.nu()[1]), float(axes.theta()[3]),
-                    float(axes.psi()[2]), [float(v) for v in axes.s()], grid,
+                    float(axes.psi()[2]), [float(v) for v in axes.s()],
+                    node_options(t.meta["config"]["exact"], float(axes.a_over_b()[1])),
                     axes.spin_weight(float(axes.a_over_b()[1])))
     np.testing.assert_allclose(t.values[1, 1, 3, 2], ray, rtol=1e-9, atol=1e-12)
 
@@ -215,7 +217,22 @@ def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
     assert reuse_rays(tmp_path / "coarse", fine, config(fine, grid + 2), tmp_path / "w2") == 0
     ab, nu = float(fine.a_over_b()[2]), float(fine.nu()[0])
     ray = solve_ray(ab, nu, float(fine.theta()[4]), float(fine.psi()[1]),
-                    [float(v) for v in fine.s()], grid, fine.spin_weight(ab))
+                    [float(v) for v in fine.s()], node_options(config(fine, grid)["exact"], ab),
+                    fine.spin_weight(ab))
     np.testing.assert_allclose(np.load(tmp_path / "w" / "ray_2_0_4_1.npy"), ray, rtol=1e-9,
                                atol=1e-12)
     assert not (tmp_path / "w" / "ray_2_0_3_1.npy").exists()
+
+
+def test_the_wide_setting_takes_twice_the_elements_along_x_above_its_bound():
+    # --wide-above A: square M x M up to a/b = A, 2M x M above it, the fine grid outside the
+    # coarse range whatever A is; without it the configuration is the shipped table's (the
+    # default command reproduces it).
+    assert config(AXES["full"], DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE,
+                  WIDE_ABOVE) == data.load().meta["config"]
+    axes = AXES["small"]
+    plain, wide = config(axes, 48, 80), config(axes, 48, 80, wide_above=4.0)
+    opts = [(node_options(wide["exact"], ab)["mx"], node_options(wide["exact"], ab)["my"])
+            for ab in (0.1, 1.0, 3.9, 4.1, 10.0)]
+    assert opts == [(80, 80), (48, 48), (48, 48), (96, 48), (96, 48)]
+    assert node_options(plain["exact"], 10.0)["mx"] == 48

@@ -1,12 +1,14 @@
 """Building the table: independent exact solves on Dask, resumable, reproducible.
 
 ``python -m contact_core.table build [--axes full|small] [--grid M] [--fine-grid M2]
-[--scheduler ADDRESS] [--workers N] [--work DIR] [--reuse DIR ...] [--out DIR]``
+[--fine-above A] [--wide-above A] [--scheduler ADDRESS] [--workers N] [--work DIR]
+[--reuse DIR ...] [--out DIR]``
 
 One task per ray: a node (a/b, ν, θ, ψ) of the table and all its magnitudes s, solved in order
 of increasing s, each exact solve warm-started from the previous one (neighbouring nodes are then
 a few sweeps each). The exact solver runs at ``M × M`` with ``extrapolate=True`` (grid-
-extrapolated, :mod:`contact_core.exact`), at ``M2 × M2`` for the nodes outside ``FINE_INSIDE``.
+extrapolated, :mod:`contact_core.exact`), at ``M2 × M2`` for the nodes outside ``FINE_INSIDE``,
+at ``2M × M`` above ``--wide-above`` (``WIDE_ABOVE``).
 On the pure-spin poles (θ = 0, π) ψ has no meaning: one ray is solved and copied.
 
 Tasks run on a Dask ``distributed`` cluster: a ``LocalCluster`` of ``--workers`` processes
@@ -49,24 +51,39 @@ AXES = {"full": Axes(), "small": Axes(n_ab=4, n_theta=7, n_psi=4, n_s=8)}
 #: half grid, 32, is short of the first-order range), 80×80 0.18 / 0.43; a/b = 0.178: 0.27 / 0.58,
 #: 0.32 / 0.51, 0.21 / 0.33. Linear range against Kalker's table (Kalker 1990, Table E.3) at
 #: a/b = 10: C22 +1.6 % at 48×48, +0.2 % at 80×80; at a/b = 5.6 +0.9 % at 48×48. The upper
-#: bound may be None (``--fine-above none``): no fine nodes at large a/b.
-DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.3, 7.0)
+#: bound is None (``--fine-above``): 80×80 at a/b = 10 costs about 9 s per ray and worker, a row
+#: of rays 3.3 h on two; the large a/b take the wide grid below instead.
+DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.3, None)
+#: ``--wide-above A``: inside ``FINE_INSIDE`` and above a/b = A the nodes are solved on 2M × M
+#: elements: along the rolling direction, where the contact is long, the square grid's elements
+#: are a/b times as long as wide. Measured against the converged exact theory (the references of
+#: ``check``) on its states with a/b in 7..10 (80 random, 80 hard region, 41 spin band; |F| / Mz
+#: max, % of μN and μN·c): 48×48 0.41 / 0.36, 0.75 / 0.29, 0.96 / 1.35; 96×48 0.31 / 0.37,
+#: 0.12 / 0.23, 0.46 / 0.57; at a/b 4..7 (80, 80, 82): 48×48 0.39 / 0.41, 0.77 / 0.54,
+#: 0.75 / 0.80; 96×48 0.30 / 0.22, 0.29 / 0.20, 0.43 / 0.21 (80×40 and 64×32 were worse than
+#: 48×48 on the spin band, 72×48 everywhere). Linear range against Kalker's table at a/b = 10,
+#: ν = 0.25: C11 +0.96 -> +0.56 %, C22 +1.60 -> +1.17 %; at a/b = 5.6 +0.54 -> +0.23 %,
+#: +0.87 -> +0.47 %. Cost per ray (32 magnitudes, warm-started) at a/b = 5.6 and 10: 48×48
+#: 1.4-3.0 s, 96×48 4.5-7.2 s (one process), so the rows a/b = 5.6 and 10 of the shipped axes
+#: (5,300 rays) take about 4 h on two workers instead of 1.5 h. Default None (square grids only):
+#: the shipped table's design.
+WIDE_ABOVE: float | None = None
 # The canonical problem every node is solved in (similarity: any values would do): c = √(ab),
 # G, μ, and N = G c² so that G c²/(μN) = 1 and the reduced creepages are C·(ξ, η, c φ).
 _C, _G, _MU = 1e-2, 8e10, 1.0
 
 
 def solve_ray(a_over_b: float, nu: float, theta: float, psi: float, s_nodes: list[float],
-              grid: int, spin_weight: float) -> np.ndarray:
-    """The node values (n_s, 4) of one ray (runs in a worker; see :mod:`.data`); ``spin_weight``:
-    w(a/b) of the axes (:mod:`.grid`)."""
+              options: dict[str, Any], spin_weight: float) -> np.ndarray:
+    """The node values (n_s, 4) of one ray (runs in a worker; see :mod:`.data`); ``options``: the
+    exact solver's (:func:`node_options`), ``spin_weight``: w(a/b) of the axes (:mod:`.grid`)."""
     from ..api import make_solver
     from ..coefficients import creep_coefficients
     b = _C / math.sqrt(a_over_b)
     a = a_over_b * b
     N = _G * _C * _C / _MU
     c11, c22, c23, _ = creep_coefficients(a_over_b, nu)
-    solver = make_solver("exact", mx=grid, my=grid, extrapolate=True)
+    solver = make_solver("exact", **options)
     out = np.empty((len(s_nodes), data.N_VALUES))
     prev = None
     for k, s in enumerate(s_nodes):
@@ -96,13 +113,17 @@ def rays(axes: Axes) -> list[tuple[int, int, int, int]]:
 
 
 def config(axes: Axes, grid: int, fine_grid: int | None = None,
-           coarse: tuple[float, float | None] = FINE_INSIDE) -> dict[str, Any]:
+           coarse: tuple[float, float | None] = FINE_INSIDE,
+           wide_above: float | None = None) -> dict[str, Any]:
     """The build's configuration (recorded in the table): ``coarse``, the a/b range of the
-    ``grid`` nodes, outside it ``fine_grid`` (``FINE_INSIDE``)."""
+    ``grid`` nodes, outside it ``fine_grid`` (``FINE_INSIDE``); inside it above ``wide_above``
+    2·grid × grid (``WIDE_ABOVE``; None: none)."""
     fine = grid if fine_grid is None else fine_grid
+    wide = {} if wide_above is None else {"wide_above": wide_above, "wide_mx": 2 * grid,
+                                           "wide_my": grid}
     return {"axes": asdict(axes),
             "exact": {"mx": grid, "my": grid, "extrapolate": True,
-                      "coarse_a_over_b": list(coarse), "fine_mx": fine, "fine_my": fine},
+                      "coarse_a_over_b": list(coarse), "fine_mx": fine, "fine_my": fine, **wide},
             "canonical": {"c": _C, "G": _G, "mu": _MU}, "format_version": data.FORMAT_VERSION}
 
 
@@ -110,8 +131,9 @@ def node_options(exact: dict[str, Any], a_over_b: float) -> dict[str, Any]:
     """The exact solver's options of the nodes at ``a_over_b`` (``exact``: the table's
     ``config["exact"]``)."""
     lo, hi = exact["coarse_a_over_b"]
-    fine = a_over_b < lo or (hi is not None and a_over_b > hi)
-    return {"mx": exact["fine_mx" if fine else "mx"], "my": exact["fine_my" if fine else "my"],
+    kind = ("fine_" if a_over_b < lo or (hi is not None and a_over_b > hi)
+            else "wide_" if a_over_b > exact.get("wide_above", math.inf) else "")
+    return {"mx": exact[kind + "mx"], "my": exact[kind + "my"],
             "extrapolate": exact["extrapolate"]}
 
 
@@ -122,7 +144,8 @@ def digest(cfg: dict[str, Any]) -> str:
 def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = None,
           workers: int | None = None, progress: bool = True, command: str = "",
           fine_grid: int | None = None,
-          coarse: tuple[float, float | None] = FINE_INSIDE, reuse: Sequence[Path] = ()) -> Path:
+          coarse: tuple[float, float | None] = FINE_INSIDE, reuse: Sequence[Path] = (),
+          wide_above: float | None = None) -> Path:
     """Solve the missing rays on Dask, then assemble and write the table (module docstring);
     ``reuse``: work folders of other builds (:func:`reuse_rays`)."""
     from concurrent.futures import as_completed
@@ -131,7 +154,7 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
 
     from ..sweep import executor
 
-    cfg = config(axes, grid, fine_grid, coarse)
+    cfg = config(axes, grid, fine_grid, coarse, wide_above)
     work.mkdir(parents=True, exist_ok=True)
     (work / "config.json").write_text(json.dumps(cfg, indent=1) + "\n", encoding="utf-8")
     ab, nu, th, ps, s = axes.a_over_b(), axes.nu(), axes.theta(), axes.psi(), axes.s()
@@ -143,7 +166,7 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
         with executor(scheduler, workers) as ex:
             futures = {ex.submit(solve_ray, float(ab[r[0]]), float(nu[r[1]]), float(th[r[2]]),
                                  float(ps[r[3]]), [float(v) for v in s],
-                                 node_options(cfg["exact"], float(ab[r[0]]))["mx"],
+                                 node_options(cfg["exact"], float(ab[r[0]])),
                                  axes.spin_weight(float(ab[r[0]]))): r for r in todo}
             with tqdm(total=len(all_rays), initial=len(all_rays) - len(todo),
                       desc="table (exact rays)", unit="ray", disable=not progress) as bar:
@@ -231,11 +254,14 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--grid", type=int, default=DEFAULT_GRID,
                    help=f"exact solver grid, extrapolated (default {DEFAULT_GRID})")
     b.add_argument("--fine-grid", type=int, default=DEFAULT_FINE_GRID,
-                   help=f"the grid outside a/b = {FINE_INSIDE[0]}..{FINE_INSIDE[1]} (default "
+                   help=f"the grid below a/b = {FINE_INSIDE[0]} and above --fine-above (default "
                    f"{DEFAULT_FINE_GRID})")
     b.add_argument("--fine-above", type=_bound_or_none, default=FINE_INSIDE[1],
-                   help=f"the fine grid above this a/b (default {FINE_INSIDE[1]}; 'none': not "
-                   "at large a/b)")
+                   help=f"the fine grid above this a/b too (default {FINE_INSIDE[1]}: not at "
+                   "large a/b)")
+    b.add_argument("--wide-above", type=_bound_or_none, default=WIDE_ABOVE,
+                   help=f"2M x M elements above this a/b (default {WIDE_ABOVE}: square grids "
+                   "only)")
     b.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a "
                    "LocalCluster on this machine)")
     b.add_argument("--workers", type=int, default=None, help="LocalCluster processes")
@@ -249,7 +275,7 @@ def main(argv: list[str] | None = None) -> int:
     a = p.parse_args(argv)
     axes = AXES[a.axes]
     coarse = (FINE_INSIDE[0], a.fine_above)
-    cfg = config(axes, a.grid, a.fine_grid, coarse)
+    cfg = config(axes, a.grid, a.fine_grid, coarse, a.wide_above)
     work = Path(a.work) if a.work else Path("build") / "table_work" / digest(cfg)
     out = Path(a.out) if a.out else data.data_dir()
     # the command that reproduces the table: reused rays are the same values, solved earlier
@@ -263,6 +289,6 @@ def main(argv: list[str] | None = None) -> int:
             kept.append(x)
     path = build(axes, a.grid, work, out, a.scheduler, a.workers, not a.no_progress,
                  command="python -m contact_core.table " + " ".join(kept), fine_grid=a.fine_grid,
-                 coarse=coarse, reuse=[Path(d) for d in a.reuse])
+                 coarse=coarse, reuse=[Path(d) for d in a.reuse], wide_above=a.wide_above)
     print(f"wrote {path} (sha256 {data.sha256(path)})")
     return 0
