@@ -206,8 +206,9 @@ def main(argv: list[str] | None = None) -> int:
     shape = {k: cases[0][k] for k in ("a", "b", "nu")}
     path = [{**cases[0], **{v: cases[0][v] * (1.0 + 0.2 * math.sin(2.0 * math.pi * i / 200))
                             for v in ("xi", "eta", "phi")}} for i in range(200)]
+    inward = -1.0 if cases[0]["a"] > cases[0]["b"] else 1.0     # a/b stays inside the table
     series = {"random": (cases[:200], lambda k, i: 1e-12 * (k + 1)),
-              "trajectory": (path, lambda k, i: 1e-4 * i / 200 + 1e-12 * (k + 1)),
+              "trajectory": (path, lambda k, i: inward * (1e-4 * i / 200 + 1e-12 * (k + 1))),
               "repeated": ([{**kw, **shape} for kw in cases[:200]], None)}
     cc.solve("table", **cases[0])
     cc.solve("fastsim", **cases[0], nx=10, ny=10)
