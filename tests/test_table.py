@@ -226,8 +226,8 @@ def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
 
 def test_the_wide_setting_takes_twice_the_elements_along_x_above_its_bound():
     # --wide-above A: square M x M up to a/b = A, 2M x M above it, the fine grid outside the
-    # coarse range whatever A is; without it the configuration is the shipped table's (the
-    # default command reproduces it).
+    # coarse range whatever A is; with the defaults the configuration is the shipped table's
+    # (the default command reproduces it).
     assert config(AXES["full"], DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE,
                   WIDE_ABOVE) == data.load().meta["config"]
     axes = AXES["small"]

@@ -260,8 +260,8 @@ def main(argv: list[str] | None = None) -> int:
                    help=f"the fine grid above this a/b too (default {FINE_INSIDE[1]}: not at "
                    "large a/b)")
     b.add_argument("--wide-above", type=_bound_or_none, default=WIDE_ABOVE,
-                   help=f"2M x M elements above this a/b (default {WIDE_ABOVE}: square grids "
-                   "only)")
+                   help=f"2M x M elements above this a/b (default {WIDE_ABOVE}; 'none': square "
+                   "grids only)")
     b.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a "
                    "LocalCluster on this machine)")
     b.add_argument("--workers", type=int, default=None, help="LocalCluster processes")
