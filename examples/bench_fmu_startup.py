@@ -2,11 +2,11 @@
 
     python examples/bench_fmu_startup.py [--repeat R]
 
-For the exact (24 x 24) and FASTSIM FMUs (full scene), with an empty cache folder
-(``CONTACT_CORE_FMU_CACHE``, see ``wheel_rail_fmu.entry``): the first process, then R more,
-each a fresh Python process that imports fmpy, instantiates and initialises the FMU and does
-one step. Printed: seconds for instantiate + initialise + first doStep (the target: at most 3 s
-from the second process on), and for the whole process.
+For the exact (24 x 24), FASTSIM and table FMUs (full scene; the table FMU also reads its
+table), with an empty cache folder (``CONTACT_CORE_FMU_CACHE``, see ``wheel_rail_fmu.entry``):
+the first process, then R more, each a fresh Python process that imports fmpy, instantiates
+and initialises the FMU and does one step. Printed: seconds for instantiate + initialise +
+first doStep (the target: at most 3 s from the second process on), and for the whole process.
 """
 from __future__ import annotations
 
@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"| FMU | first process | next {a.repeat} processes: min / median / max |")
     print("|---|---:|---:|")
     with tempfile.TemporaryDirectory() as tmp:
-        for method in ("exact", "fastsim"):
+        for method in ("exact", "fastsim", "table"):
             fmu = build("full", method, tmp)
             cache = Path(tmp) / f"cache_{method}"
             first = run(fmu, cache)
