@@ -117,8 +117,15 @@ cases, 20×20, separate flexibilities, |F| error p95 / max in % of μN):
 
 For pure spin the limit is simplified theory itself, not the grid: converged (100×100,
 "midpoint") it is 7.8 / 9.3 off with the parabolic bound and 5.3 / 8.3 with the elliptic one on
-the benchmark's 80 pure-spin cases (against the exact solver fitted over 40²…80² grids, measured
-2026-11-24), so no discretisation with L3 from C23 gets below that.
+the benchmark's pure-spin cases (the 77 of 80 whose reference converged: the exact solver fitted
+over 40²…80² grids; measured 2026-11-24). A coarse grid comes closer only where its own error
+happens to cancel part of it: on a uniform grid over the ellipse's bounding box, as CONTACT
+discretises its potential contact (the elements whose centre lies inside the ellipse carry
+traction), parabolic bound, 20×20 is 4.9 / 8.6 off and 40×40 5.9 / 7.1, converging at first
+order to the same solution (160×160: 6.9 / 8.4, within 1.2 % of μN of "midpoint" on 160×160
+strips); but for pure ξ that grid is 1.4 / 2.6 (20×20) and 2.4 / 3.4 (40×40) off. (For pure
+spin the slip law here is CONTACT's: its FASTSIM scales the stick traction radially onto the
+bound; projecting along diag(L1, L2) instead is worse, parabolic 11.2 / 11.9.)
 
 and on CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is within 1.9 %
 of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" within 4.8 % (tests).

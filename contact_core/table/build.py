@@ -65,9 +65,11 @@ DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.3, None)
 #: ν = 0.25: C11 +0.96 -> +0.56 %, C22 +1.60 -> +1.17 %; at a/b = 5.6 +0.54 -> +0.23 %,
 #: +0.87 -> +0.47 %. Cost per ray (32 magnitudes, warm-started) at a/b = 5.6 and 10: 48×48
 #: 1.4-3.0 s, 96×48 4.5-7.2 s (one process), so the rows a/b = 5.6 and 10 of the shipped axes
-#: (5,300 rays) take about 4 h on two workers instead of 1.5 h. Default 7: the shipped table's
-#: design, the row a/b = 10 on 96×48 (1 h 52 min for its 2,650 rays), a/b = 5.6 still on 48×48.
-WIDE_ABOVE: float | None = 7.0
+#: (5,300 rays) take about 3.7 h on two workers instead of 0.6-0.9 h (measured: 1 h 52 min a row).
+#: Default 4: the shipped table's design, both rows on 96×48; on ``check``'s spin band this took
+#: the |F| / Mz max from 1.22 / 1.52 (both on 48×48) to 1.25 / 1.29 (a/b = 10 on 96×48) and
+#: 0.83 / 0.84.
+WIDE_ABOVE: float | None = 4.0
 # The canonical problem every node is solved in (similarity: any values would do): c = √(ab),
 # G, μ, and N = G c² so that G c²/(μN) = 1 and the reduced creepages are C·(ξ, η, c φ).
 _C, _G, _MU = 1e-2, 8e10, 1.0
