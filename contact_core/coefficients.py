@@ -93,8 +93,12 @@ _LOG_LO, _LOG_HI = math.log(_RATIOS[0]), math.log(_RATIOS[-1])
 # curved profiles meets a new a/b at every step. Per new (a/b, ν), measured in one run: scipy's
 # four spline calls 21 µs, the polynomials in numpy 6 µs, these loops 2.5 µs (a numba kernel
 # 1.3 µs, but its first call would cost 0.2 s in a process that compiles nothing else, as the
-# linear and Johnson-Vermeulen FMUs).
+# linear and Johnson-Vermeulen FMUs). Code that is compiled anyway (the method "table") calls
+# :func:`spline_coefficients` inside its kernel instead.
 _PIECE_LIST = _PIECES[:, :, ::-1, :].tolist()       # (interval, k, power 3..0, ν power 0..2)
+#: The spline as arrays, for :func:`spline_coefficients`: breakpoints in ln(a/b), and per
+#: interval, coefficient k and power 3..0 of (x - x_i) the factors of ν^0, ν^1, ν^2.
+SPLINE = (np.array(_BREAKS), np.ascontiguousarray(_PIECES[:, :, ::-1, :]))
 
 
 def _table(a_over_b: float, nu: float) -> list[float]:
@@ -106,6 +110,22 @@ def _table(a_over_b: float, nu: float) -> list[float]:
                       + p1[0] + nu * (p1[1] + nu * p1[2])) * dx
                      + p0[0] + nu * (p0[1] + nu * p0[2]))
             for p3, p2, p1, p0 in _PIECE_LIST[i]]
+
+
+def spline_coefficients(breaks: np.ndarray, pieces: np.ndarray, x: float,
+                        nu: float) -> tuple[float, float, float]:
+    """(C11, C22, C23) at ln(a/b) = x inside Kalker's table (``_LOG_LO <= x <= _LOG_HI``) from
+    the arrays ``SPLINE``: the same spline, operations and order as :func:`_table`, written for
+    numba (array arguments, no Python objects), for kernels that compile anyway."""
+    i = min(max(int(np.searchsorted(breaks, x, side="right")) - 1, 0), breaks.shape[0] - 1)
+    dx = x - breaks[i]
+
+    def one(p):                 # inlined by numba
+        return math.exp((((p[0, 0] + nu * (p[0, 1] + nu * p[0, 2])) * dx
+                          + p[1, 0] + nu * (p[1, 1] + nu * p[1, 2])) * dx
+                         + p[2, 0] + nu * (p[2, 1] + nu * p[2, 2])) * dx
+                        + p[3, 0] + nu * (p[3, 1] + nu * p[3, 2]))
+    return one(pieces[i, 0]), one(pieces[i, 1]), one(pieces[i, 2])
 
 
 def _asymptote_thin_a(g: float, nu: float) -> list[float]:

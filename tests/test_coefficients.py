@@ -35,8 +35,13 @@ def test_interpolation_passes_through_every_tabulated_value(row):
 
 def test_between_nodes_the_interpolant_is_scipys_bicubic_by_quadratic_spline():
     # The interpolant the module docstring names, evaluated by scipy itself, from the tabulated
-    # values alone: the fast polynomial form must give the same coefficients to rounding.
+    # values alone: the fast polynomial form must give the same coefficients to rounding, in
+    # plain Python and as the table's lookup compiles it.
     from scipy.interpolate import RectBivariateSpline
+
+    from contact_core.coefficients import SPLINE
+    from contact_core.table import interp
+    interp.kernels()
     rows = _rows()
     ab = np.unique([r["a_over_b"] for r in rows])
     nus = np.unique([r["nu"] for r in rows])
@@ -48,6 +53,7 @@ def test_between_nodes_the_interpolant_is_scipys_bicubic_by_quadratic_spline():
     for x, nu in zip(rng.uniform(np.log(0.1), np.log(10.0), 400), rng.uniform(0.0, 0.5, 400)):
         want = [math.exp(float(s(x, nu, grid=False))) for s in splines]
         assert cc.creep_coefficients(math.exp(x), nu) == pytest.approx(want, rel=1e-12)
+        assert interp.spline_coefficients(*SPLINE, x, nu) == pytest.approx(want[:3], rel=1e-12)
 
 
 def test_seed_table_1_kalker_column_agrees_with_table_e3():

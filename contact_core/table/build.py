@@ -50,7 +50,10 @@ AXES = {"full": Axes(), "small": Axes(n_ab=4, n_theta=7, n_psi=4, n_s=8)}
 #: row (|F| / Mz max, % of μN and μN·c): a/b = 0.1: 48×48 0.21 / 0.75, 64×64 0.57 / 1.21 (its
 #: half grid, 32, is short of the first-order range), 80×80 0.18 / 0.43; a/b = 0.178: 0.27 / 0.58,
 #: 0.32 / 0.51, 0.21 / 0.33. Linear range against Kalker's table (Kalker 1990, Table E.3) at
-#: a/b = 10: C22 +1.6 % at 48×48, +0.2 % at 80×80; at a/b = 5.6 +0.9 % at 48×48. The upper
+#: a/b = 10: C22 +1.6 % at 48×48, +0.2 % at 80×80; at a/b = 5.6 +0.9 % at 48×48. (The +0.2 %
+#: is a chance of the two-grid extrapolation: at a/b = 10 the values move by up to 1 % from one
+#: grid to the next; single grids with square elements, 160×16 to 400×40 fitted in 1/m, converge
+#: to C22 +1.2 % and C11 +0.8 % above Kalker's table, at ν = 0.25 and 0.28.) The upper
 #: bound is None (``--fine-above``): 80×80 at a/b = 10 costs about 9 s per ray and worker, a row
 #: of rays 3.3 h on two; the large a/b take the wide grid below instead.
 DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.3, None)

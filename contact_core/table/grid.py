@@ -132,7 +132,13 @@ class Axes:
 
     def spin_weight(self, a_over_b: float) -> float:
         """w(a/b), the weight of the reduced spin in the table's coordinates (module docstring)."""
-        return ((1.0 + a_over_b ** -2) / 2.0) ** (0.5 * self.spin_power)
+        return spin_weight(a_over_b, self.spin_power)
+
+
+def spin_weight(a_over_b: float, power: float) -> float:
+    """w(a/b) = ((1 + (b/a)²)/2)^(p/2), p = ``power`` (module docstring; numba compiles it in the
+    lookup, :mod:`.interp`)."""
+    return ((1.0 + a_over_b ** -2) / 2.0) ** (0.5 * power)
 
 
 def node_magnitude(s: float) -> float:

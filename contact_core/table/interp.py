@@ -26,6 +26,9 @@ from typing import Callable
 
 import numpy as np
 
+from ..coefficients import spline_coefficients
+from .grid import spin_weight
+
 
 def _weights(x: float, lo: float, h: float, n: int) -> tuple[int, float, float, float, float]:
     """First node and the 4 interpolation weights at x on a uniform axis of ``n`` nodes from
@@ -126,6 +129,25 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
     return _finish(sx, sy, s, g0, g1, g2, g3)
 
 
+def _scales(breaks: np.ndarray, pieces: np.ndarray, spin_power: float, ab: float,
+            nu: float) -> tuple[float, float, float, float]:
+    """The factors from the creepages to the table's coordinates at (a/b, ν) inside the table
+    (:mod:`.grid`): Kalker's C11, C22 and w(a/b) C23 (``coefficients.SPLINE``), and ln(a/b)."""
+    x = math.log(ab)
+    c11, c22, c23 = spline_coefficients(breaks, pieces, x, nu)
+    return c11, c22, spin_weight(ab, spin_power) * c23, x
+
+
+def _lookup_state(values: np.ndarray, axes: np.ndarray, breaks: np.ndarray, pieces: np.ndarray,
+                  spin_power: float, xi: float, eta: float, phi: float, c: float, k: float,
+                  ab: float, nu: float) -> tuple[float, float, float, float]:
+    """:func:`_lookup` at the creepages (ξ, η, φ) of a contact of a/b and ν (inside the table),
+    c = √(ab), k = G c²/(μN): the coordinates (u0, u1, u2) formed from :func:`_scales` as the
+    method forms them for :func:`_lookup_slice` (the same operations, so the same bits)."""
+    s_xi, s_eta, s_phi, log_ab = _scales(breaks, pieces, spin_power, ab, nu)
+    return _lookup(values, axes, s_xi * xi * k, s_eta * eta * k, s_phi * c * phi * k, log_ab, nu)
+
+
 def _count(n: int) -> int:
     """Nodes of an axis's stencil (:func:`_weights`)."""
     return 4 if n >= 4 else 2
@@ -208,17 +230,22 @@ def _lookup_slice(slab: np.ndarray, axes: np.ndarray, u0: float, u1: float,
 _JITTED = False
 
 
-def kernels() -> tuple[Callable, Callable, Callable]:
-    """The numba-compiled (:func:`_lookup`, :func:`_make_slice`, :func:`_lookup_slice`) (numba
-    imported on first use; cached on disk). Every function of this module is replaced by its
-    compiled version (module attributes, as numba's cache statistics expect)."""
+def kernels() -> tuple[Callable, Callable, Callable, Callable]:
+    """The numba-compiled (:func:`_lookup_state`, :func:`_scales`, :func:`_make_slice`,
+    :func:`_lookup_slice`) (numba imported on first use; cached on disk). Every function of this
+    module, and the two it calls from ``coefficients`` and ``grid``, is replaced by its compiled
+    version (module attributes, as numba's cache statistics expect). numba's disk cache keys on
+    this file only: after editing those two functions, delete ``__pycache__``."""
     global _JITTED, _weights, _count, _polar, _finish, _pair_stencil, _stencil, _cube
-    global _lookup, _make_slice, _lookup_slice
+    global _lookup, _make_slice, _lookup_slice, _scales, _lookup_state
+    global spline_coefficients, spin_weight
     if not _JITTED:
         import numba
         jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+        spline_coefficients, spin_weight = jit(spline_coefficients), jit(spin_weight)
         _weights, _count, _polar, _finish = jit(_weights), jit(_count), jit(_polar), jit(_finish)
         _pair_stencil, _stencil, _cube = jit(_pair_stencil), jit(_stencil), jit(_cube)
         _lookup, _make_slice, _lookup_slice = jit(_lookup), jit(_make_slice), jit(_lookup_slice)
+        _scales, _lookup_state = jit(_scales), jit(_lookup_state)
         _JITTED = True
-    return _lookup, _make_slice, _lookup_slice
+    return _lookup_state, _scales, _make_slice, _lookup_slice

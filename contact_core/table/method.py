@@ -30,7 +30,7 @@ import numpy as np
 
 from ..base import ContactMethod
 from ..cache import cached
-from ..coefficients import creep_coefficients
+from ..coefficients import SPLINE
 from ..exact import Exact
 from ..linear import LinearTheory
 from ..result import make_result
@@ -41,13 +41,10 @@ from .interp import kernels, with_psi_ghosts
 #: a/b is accepted within a few ulps outside the axis (a and b rescaled by a common factor give
 #: an a/b that differs in its last digits).
 _EDGE_LO, _EDGE_HI = 1.0 - 1e-12, 1.0 + 1e-12
-#: Kept per solver: the scales of at most ``_MAX_PAIRS`` (a/b, ν) pairs (then forgotten), and a
-#: 3-D slice (:func:`.interp._make_slice`, 1.5 MB for the shipped table) for at most
-#: ``_MAX_SLICES`` of them, made at a pair's second call.
+#: Kept per solver: the (a/b, ν) pairs met, at most ``_MAX_PAIRS`` (then forgotten with their
+#: slices), and for at most ``_MAX_SLICES`` of them, from their second call on, the scales and a
+#: 3-D slice (:func:`.interp._make_slice`, 1.5 MB for the shipped table).
 _MAX_PAIRS, _MAX_SLICES = 64, 8
-#: Kalker's coefficients without their shared cache: the pairs above keep them, and a contact
-#: point on curved profiles meets a new a/b at every call, where the cache's miss costs 0.7 µs.
-_coefficients = creep_coefficients.__wrapped__
 
 
 @cached(4)
@@ -87,38 +84,39 @@ class Table(ContactMethod):
         t = data.load(folder)
         self._values, self._axes = _kernel_arrays(folder)
         ax = t.axes
-        self._spin_weight = ax.spin_weight
+        self._spin_power = ax.spin_power
         self._ab_range = (ax.ab_lo, ax.ab_hi)
         self._nu_range = (ax.nu_lo, ax.nu_hi)
-        self._lookup, self._make_slice, self._lookup_slice = kernels()
-        #: (a/b, ν) -> C11, C22, w C23, ln(a/b), slice or None (see ``_MAX_SLICES``)
-        self._pairs: dict[tuple[float, float], tuple] = {}
-        self._slices = 0
+        self._lookup_state, self._scales, self._make_slice, self._lookup_slice = kernels()
+        self._seen: set[tuple[float, float]] = set()
+        #: (a/b, ν) -> C11, C22, w C23 (:func:`.interp._scales`) and the slice
+        self._slices: dict[tuple[float, float], tuple] = {}
         self._lo_ab, self._hi_ab = ax.ab_lo * _EDGE_LO, ax.ab_hi * _EDGE_HI
         self._fallback: Exact | None = None
         self._linear = LinearTheory(self.effects) if not self.effects.saturation else None
 
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         ab = a / b
+        c = math.sqrt(a * b)
+        k = G * a * b / (mu * N)
         # a/b and ν rarely change in a simulation (a/b of a Hertz patch whose size follows N
-        # takes two or three values in the last digits): their scales and slice are kept, for
-        # pairs inside the table only.
-        pair = self._pairs.get((ab, nu))
-        if pair is None or pair[4] is None:
+        # takes two or three values in the last digits): a pair met twice gets a slice.
+        kept = self._slices.get((ab, nu))
+        if kept is None:
             nu_lo, nu_hi = self._nu_range
             if not (self._lo_ab <= ab <= self._hi_ab and nu_lo <= nu <= nu_hi):
                 return self._outside(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
             if self._linear is not None:
                 return replace(self._linear.step(xi, eta, phi, N, mu, a, b, G, nu),
                                method=self.name)
-            pair = self._pair(ab, nu, pair)
-        s_xi, s_eta, s_phi, log_ab, slab = pair
-        c = math.sqrt(a * b)
-        k = G * a * b / (mu * N)
-        if slab is None:
-            fx, fy, mz, slip = self._lookup(self._values, self._axes, s_xi * xi * k,
-                                            s_eta * eta * k, s_phi * c * phi * k, log_ab, nu)
+            inside = min(self._ab_range[1], max(self._ab_range[0], ab))  # an end, up to rounding
+            breaks, pieces = SPLINE
+            fx, fy, mz, slip = self._lookup_state(self._values, self._axes, breaks, pieces,
+                                                  self._spin_power, xi, eta, phi, c, k, inside,
+                                                  nu)
+            self._meet(ab, nu, inside)
         else:
+            s_xi, s_eta, s_phi, slab = kept
             fx, fy, mz, slip = self._lookup_slice(slab, self._axes, s_xi * xi * k,
                                                   s_eta * eta * k, s_phi * c * phi * k)
         mun = mu * N
@@ -127,25 +125,21 @@ class Table(ContactMethod):
                            fy * mun if eff.lateral else 0.0,
                            mz * mun * c if eff.spin else 0.0, self.name, slip)
 
-    def _pair(self, ab: float, nu: float, known: tuple | None) -> tuple:
-        """The kept data of (a/b, ν) (see ``_MAX_PAIRS``): at the first call its scales, at the
-        second its slice too."""
+    def _meet(self, ab: float, nu: float, inside: float) -> None:
+        """Remember the pair (a/b, ν) (``inside``: a/b brought onto the table's range); at its
+        second call make its slice (see ``_MAX_PAIRS``)."""
         key = (ab, nu)
-        if known is None:
-            if len(self._pairs) >= _MAX_PAIRS:
-                self._pairs.clear()
-                self._slices = 0
-            ab = min(self._ab_range[1], max(self._ab_range[0], ab))   # an end, up to rounding
-            c11, c22, c23, _ = _coefficients(ab, nu)
-            known = (c11, c22, self._spin_weight(ab) * c23, math.log(ab), None)
-            self._pairs[key] = known
-            return known
-        if self._slices >= _MAX_SLICES:
-            return known
-        self._slices += 1
-        pair = known[:4] + (self._make_slice(self._values, self._axes, known[3], nu),)
-        self._pairs[key] = pair
-        return pair
+        if key not in self._seen:
+            if len(self._seen) >= _MAX_PAIRS:
+                self._seen.clear()
+                self._slices.clear()
+            self._seen.add(key)
+        elif len(self._slices) < _MAX_SLICES:
+            breaks, pieces = SPLINE
+            s_xi, s_eta, s_phi, log_ab = self._scales(breaks, pieces, self._spin_power, inside,
+                                                      nu)
+            self._slices[key] = (s_xi, s_eta, s_phi,
+                                 self._make_slice(self._values, self._axes, log_ab, nu))
 
     def _outside(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         warnings.warn(f"table: a/b={a / b:g}, nu={nu:g} outside the table (a/b "
