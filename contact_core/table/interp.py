@@ -17,7 +17,10 @@ interpolates the whole table at one (a/b, ν) into a 3-D slice over (θ, ψ, s),
 :func:`_lookup_slice` interpolates with 64 nodes; :func:`_lookup` needs no slice: it interpolates
 the 64 nodes of its stencil at (a/b, ν) (512 table values), then over (θ, ψ, s). Both sum in the
 same order, so they give the same result to the bit. The method uses the slice where (a/b, ν)
-repeats, as in a simulation.
+repeats, as in a simulation; at a new pair it calls :func:`_lookup_state`, which also forms the
+table's coordinates from the creepages (Kalker's coefficients and the spin weight compiled in: in
+Python around the kernel they cost 2-3 µs of the 7.6-9.2 µs a new pair took; 5.7-6.8 µs since,
+``check``).
 """
 from __future__ import annotations
 
