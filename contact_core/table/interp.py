@@ -8,6 +8,12 @@ Lagrange's weights (one-sided at the ends), tensor product over ln(a/b), θ, ψ 
 flips Fx; (η, φ) -> -(η, φ) maps (θ, ψ) to (π - θ, -ψ) and flips Fy and Mz. On the 2000 held-out
 states of ``check``'s hard region (ψ near 0 or π/2, near full sliding) this took the largest |F|
 error from 1.43 to 1.09 % of μN and Mz from 1.32 to 1.20 % of μN c.
+Tried and not kept (the shipped table, ``check``'s three sets): the cubic spline through all 9
+nodes of ln(a/b) (not-a-knot, from B-spline coefficients computed at load, the same 4 rows per
+lookup) took the hard region's |F| max from 1.08 to 1.01 % of μN and the random set's Mz max from
+0.59 to 0.53 % of μN c, but the spin band's |F| max from 0.83 to 0.89 % and every p95 up by 2-7 %
+(natural end conditions: the hard region's Mz p95 0.28 -> 0.47 %); the same spline along θ or s
+changed the largest errors by less than 0.02 %.
 scipy's ``RegularGridInterpolator`` on the same table costs 0.1-0.8 ms per point
 (measured on this table: cubic 96 µs, linear 770 µs, a loaded 2-core machine), far over the
 method's per-call budget; these kernels cost about a µs.
