@@ -217,6 +217,8 @@ def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
     assert reuse_rays(tmp_path / "coarse", fine, config(fine, grid), tmp_path / "w") == \
         len(rays(coarse))
     assert reuse_rays(tmp_path / "coarse", fine, config(fine, grid + 2), tmp_path / "w2") == 0
+    assert reuse_rays(tmp_path / "coarse", fine, config(fine, grid, tol=1e-4),
+                      tmp_path / "w3") == 0
     ab, nu = float(fine.a_over_b()[2]), float(fine.nu()[0])
     ray = solve_ray(ab, nu, float(fine.theta()[4]), float(fine.psi()[1]),
                     [float(v) for v in fine.s()], node_options(config(fine, grid)["exact"], ab),
@@ -224,6 +226,13 @@ def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
     np.testing.assert_allclose(np.load(tmp_path / "w" / "ray_2_0_4_1.npy"), ray, rtol=1e-9,
                                atol=1e-12)
     assert not (tmp_path / "w" / "ray_2_0_3_1.npy").exists()
+    # --tol 1e-4 (build.py): the forces s g of the ray within the tolerance (of μN, μN c)
+    loose = solve_ray(ab, nu, float(fine.theta()[4]), float(fine.psi()[1]),
+                      [float(v) for v in fine.s()],
+                      node_options(config(fine, grid, tol=1e-4)["exact"], ab),
+                      fine.spin_weight(ab))
+    s = fine.s()[:, None]
+    assert np.abs((loose - ray)[:, :3] * s).max() < 1e-4
 
 
 def test_the_wide_setting_takes_twice_the_elements_along_x_above_its_bound():
@@ -238,3 +247,5 @@ def test_the_wide_setting_takes_twice_the_elements_along_x_above_its_bound():
             for ab in (0.1, 1.0, 3.9, 4.1, 10.0)]
     assert opts == [(80, 80), (48, 48), (48, 48), (96, 48), (96, 48)]
     assert node_options(plain["exact"], 10.0)["mx"] == 48
+    assert "tol" not in node_options(plain["exact"], 1.0)      # the exact method's default
+    assert node_options(config(axes, 48, 80, tol=1e-4)["exact"], 1.0)["tol"] == 1e-4
