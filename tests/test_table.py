@@ -226,6 +226,15 @@ def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
     np.testing.assert_allclose(np.load(tmp_path / "w" / "ray_2_0_4_1.npy"), ray, rtol=1e-9,
                                atol=1e-12)
     assert not (tmp_path / "w" / "ray_2_0_3_1.npy").exists()
+    # a finished table's folder serves too (a fresh clone has no work folder): its rays in single
+    # precision, and a table written from them alone is the source's, byte for byte
+    assert reuse_rays(tmp_path / "t", fine, config(fine, grid), tmp_path / "w4") == \
+        len(rays(coarse))
+    np.testing.assert_array_equal(np.load(tmp_path / "w4" / "ray_2_0_4_1.npy"),
+                                  np.load(tmp_path / "w" / "ray_2_0_4_1.npy").astype(data.DTYPE))
+    again = build(coarse, grid, tmp_path / "w5", tmp_path / "t5", workers=1, progress=False,
+                  reuse=[tmp_path / "t"])
+    assert again.read_bytes() == (tmp_path / "t" / f"{data.NAME}.npz").read_bytes()
     # --tol 1e-4 (build.py): the forces s g of the ray within the tolerance (of μN, μN c)
     loose = solve_ray(ab, nu, float(fine.theta()[4]), float(fine.psi()[1]),
                       [float(v) for v in fine.s()],
@@ -247,5 +256,6 @@ def test_the_wide_setting_takes_twice_the_elements_along_x_above_its_bound():
             for ab in (0.1, 1.0, 3.9, 4.1, 10.0)]
     assert opts == [(80, 80), (48, 48), (48, 48), (96, 48), (96, 48)]
     assert node_options(plain["exact"], 10.0)["mx"] == 48
+    assert node_options(config(axes, 48, 80, coarse=(0.6, None))["exact"], 0.316)["mx"] == 80
     assert "tol" not in node_options(plain["exact"], 1.0)      # the exact method's default
     assert node_options(config(axes, 48, 80, tol=1e-4)["exact"], 1.0)["tol"] == 1e-4

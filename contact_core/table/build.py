@@ -1,7 +1,7 @@
 """Building the table: independent exact solves on Dask, resumable, reproducible.
 
 ``python -m contact_core.table build [--axes full|small] [--grid M] [--fine-grid M2]
-[--fine-above A] [--wide-above A] [--tol T] [--scheduler ADDRESS] [--workers N] [--work DIR]
+[--fine-below A] [--fine-above A] [--wide-above A] [--tol T] [--scheduler ADDRESS] [--workers N] [--work DIR]
 [--reuse DIR ...] [--out DIR]``
 
 One task per ray: a node (a/b, ν, θ, ψ) of the table and all its magnitudes s, solved in order
@@ -15,8 +15,10 @@ Tasks run on a Dask ``distributed`` cluster: a ``LocalCluster`` of ``--workers``
 (default: every core) or the existing cluster at ``--scheduler``. Every finished ray is saved at
 once to the work folder (``--work``, default ``build/table_work/<digest of the configuration>``)
 as a numpy file, so an interrupted build resumes where it stopped; a progress bar counts rays.
-``--reuse`` takes the finished rays of other builds' work folders whose node and exact setting
-are the same as one of this build's, e.g. when an axis is refined from n to 2n - 1 nodes; like a
+``--reuse`` takes the finished rays of other builds' work folders, or of finished tables (e.g.
+``contact_core/data``: a build in a fresh clone, where no work folder is left, starts from the
+shipped table), whose node and exact setting are the same as one of this build's, e.g. when an
+axis is refined from n to 2n - 1 nodes or one row is solved again on another grid; like a
 resumed build, it assumes those rays were solved by the same exact-solver code.
 When every ray is there the table is assembled and written to ``--out`` (default
 ``contact_core/data``) with its metadata (:mod:`.data`): the command, the configuration, its
@@ -228,20 +230,35 @@ def _ray_keys(cfg: dict[str, Any], axes: Axes) -> dict[tuple, tuple[int, int, in
 
 
 def reuse_rays(source: Path, axes: Axes, cfg: dict[str, Any], work: Path) -> int:
-    """Copy into ``work`` the finished rays of the build whose work folder is ``source`` that
-    solved one of this build's rays (same :func:`_ray_keys` key, node values equal to the bit);
-    returns how many were copied."""
-    src_cfg = json.loads((source / "config.json").read_text(encoding="utf-8"))
+    """Copy into ``work`` the finished rays of ``source`` that solved one of this build's rays
+    (same :func:`_ray_keys` key, node values equal to the bit); returns how many were copied.
+    ``source``: another build's work folder, or a finished table's folder (``data.NAME`` .json
+    and .npz, checked as :func:`.data.load` checks them), e.g. the package's data folder, so that
+    a build in a fresh clone starts from the shipped table. A table holds its rays in single
+    precision (``data.DTYPE``): a table written from them has the source's values to the bit."""
+    if (source / f"{data.NAME}.json").is_file():
+        table = data.load(str(source))
+        src_cfg = table.meta["config"]
+
+        def ray(r: tuple[int, int, int, int]) -> np.ndarray | None:
+            return table.values[r].astype(np.float64)
+    else:
+        src_cfg = json.loads((source / "config.json").read_text(encoding="utf-8"))
+
+        def ray(r: tuple[int, int, int, int]) -> np.ndarray | None:
+            path = _ray_file(source, r)
+            return np.load(path, allow_pickle=False) if path.is_file() else None
     wanted = _ray_keys(cfg, axes)
     work.mkdir(parents=True, exist_ok=True)
     copied = 0
     for key, r in _ray_keys(src_cfg, Axes(**src_cfg["axes"])).items():
         target = wanted.get(key)
-        done = _ray_file(work, target).is_file() if target is not None else True
-        if done or not _ray_file(source, r).is_file():
+        if target is None or _ray_file(work, target).is_file():
             continue
-        _save_ray(_ray_file(work, target), np.load(_ray_file(source, r), allow_pickle=False))
-        copied += 1
+        values = ray(r)
+        if values is not None:
+            _save_ray(_ray_file(work, target), values)
+            copied += 1
     return copied
 
 
@@ -289,8 +306,11 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--grid", type=int, default=DEFAULT_GRID,
                    help=f"exact solver grid, extrapolated (default {DEFAULT_GRID})")
     b.add_argument("--fine-grid", type=int, default=DEFAULT_FINE_GRID,
-                   help=f"the grid below a/b = {FINE_INSIDE[0]} and above --fine-above (default "
+                   help=f"the grid below --fine-below and above --fine-above (default "
                    f"{DEFAULT_FINE_GRID})")
+    b.add_argument("--fine-below", type=_bound_or_none, default=FINE_INSIDE[0],
+                   help=f"the fine grid below this a/b (default {FINE_INSIDE[0]}; 'none': "
+                   "nowhere below)")
     b.add_argument("--fine-above", type=_bound_or_none, default=FINE_INSIDE[1],
                    help=f"the fine grid above this a/b too (default {FINE_INSIDE[1]}: not at "
                    "large a/b)")
@@ -306,14 +326,15 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--workers", type=int, default=None, help="LocalCluster processes")
     b.add_argument("--work", default=None, help="folder of the finished rays (resume)")
     b.add_argument("--reuse", action="append", default=[], metavar="DIR",
-                   help="work folder of another build: its rays at the same nodes and exact "
-                   "setting are taken (repeatable)")
+                   help="work folder of another build, or folder of a finished table (e.g. "
+                   "contact_core/data): its rays at the same nodes and exact setting are taken "
+                   "(repeatable)")
     b.add_argument("--out", default=None, help="where to write the table (default: the "
                    "package's data folder)")
     b.add_argument("--no-progress", action="store_true")
     a = p.parse_args(argv)
     axes = AXES[a.axes]
-    coarse = (FINE_INSIDE[0], a.fine_above)
+    coarse = (0.0 if a.fine_below is None else a.fine_below, a.fine_above)
     cfg = config(axes, a.grid, a.fine_grid, coarse, a.wide_above, a.tol)
     work = Path(a.work) if a.work else Path("build") / "table_work" / digest(cfg)
     out = Path(a.out) if a.out else data.data_dir()
