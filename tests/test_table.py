@@ -146,6 +146,10 @@ def test_effects_subset_and_linear_without_saturation():
     nosat = cc.solve("table", effects=("longitudinal", "lateral", "spin"), **kw)
     assert nosat.Fx == pytest.approx(cc.solve("linear", **kw).Fx, rel=1e-12)
     assert nosat.method == "table"
+    # without saturation μ plays no part, μ = 0 included
+    frictionless = cc.solve("table", effects=("longitudinal", "lateral", "spin"),
+                            **{**kw, "mu": 0.0})
+    assert frictionless.Fx == nosat.Fx
 
 
 def test_repeated_contact_shape_gives_the_same_forces_as_a_first_call():

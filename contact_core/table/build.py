@@ -1,8 +1,8 @@
 """Building the table: independent exact solves on Dask, resumable, reproducible.
 
 ``python -m contact_core.table build [--axes full|small] [--grid M] [--fine-grid M2]
-[--fine-below A] [--fine-above A] [--wide-above A] [--tol T] [--scheduler ADDRESS] [--workers N] [--work DIR]
-[--reuse DIR ...] [--out DIR]``
+[--fine-below A] [--fine-above A] [--wide-above A] [--tol T] [--scheduler ADDRESS]
+[--workers N] [--work DIR] [--reuse DIR ...] [--out DIR]``
 
 One task per ray: a node (a/b, ν, θ, ψ) of the table and all its magnitudes s, solved in order
 of increasing s, each exact solve warm-started from the previous one (neighbouring nodes are then
@@ -66,7 +66,11 @@ AXES = {"full": Axes(), "small": Axes(n_ab=4, n_theta=7, n_psi=4, n_s=8)}
 #: contact than along it were no better (40 and 40 states: 48×96 0.71 / 0.68 and 0.61 / 0.27,
 #: 40×120 0.36 / 0.48 and 0.42 / 0.42, 64×128 0.52 / 0.44 and 0.41 / 0.33). At a/b 0.28-0.5
 #: (80 and 80): 48×48 0.52 / 0.43 and 0.66 / 0.32, 80×80 0.15 / 0.21 and 0.11 / 0.16: the
-#: 48×48 rows' own error is a good part of the hard region's largest errors (``check``).
+#: 48×48 rows' own error is a good part of the hard region's largest errors (``check``): the 260
+#: rays of the rows a/b = 0.316 and 0.562 that the six worst hard-region states read, solved on
+#: 80×80 in a patched copy, took those states from 1.08, 1.03, 1.00, 1.00 % (a/b 0.466, 0.132,
+#: 0.716, 0.326) to 0.95, 1.05, 0.96, 0.04 % of μN (the hard region's p95 0.39 -> 0.37 %); the
+#: state at a/b = 0.132 is limited by the a/b nodes (README).
 DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.3, None)
 #: ``--wide-above A``: inside ``FINE_INSIDE`` and above a/b = A the nodes are solved on 2M × M
 #: elements: along the rolling direction, where the contact is long, the square grid's elements
@@ -140,7 +144,8 @@ def config(axes: Axes, grid: int, fine_grid: int | None = None,
     """The build's configuration (recorded in the table): ``coarse``, the a/b range of the
     ``grid`` nodes, outside it ``fine_grid`` (``FINE_INSIDE``); inside it above ``wide_above``
     2·grid × grid (``WIDE_ABOVE``; None: none); ``tol``: the exact solver's tolerance (None: its
-    default, recorded as absent, as in the tables built before the option; ``TOL``)."""
+    default, recorded as absent, as in the tables built before the option; measured: the comment
+    above ``_C``)."""
     fine = grid if fine_grid is None else fine_grid
     wide = {} if wide_above is None else {"wide_above": wide_above, "wide_mx": 2 * grid,
                                            "wide_my": grid}

@@ -97,8 +97,6 @@ class Table(ContactMethod):
 
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         ab = a / b
-        c = math.sqrt(a * b)
-        k = G * a * b / (mu * N)
         # a/b and ν rarely change in a simulation (a/b of a Hertz patch whose size follows N
         # takes two or three values in the last digits): a pair met twice gets a slice.
         kept = self._slices.get((ab, nu))
@@ -106,9 +104,12 @@ class Table(ContactMethod):
             nu_lo, nu_hi = self._nu_range
             if not (self._lo_ab <= ab <= self._hi_ab and nu_lo <= nu <= nu_hi):
                 return self._outside(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
-            if self._linear is not None:
+            if self._linear is not None:    # without saturation μ may be 0: k divides by μN
                 return replace(self._linear.step(xi, eta, phi, N, mu, a, b, G, nu),
                                method=self.name)
+        c = math.sqrt(a * b)
+        k = G * a * b / (mu * N)
+        if kept is None:
             inside = min(self._ab_range[1], max(self._ab_range[0], ab))  # an end, up to rounding
             breaks, pieces = SPLINE
             fx, fy, mz, slip = self._lookup_state(self._values, self._axes, breaks, pieces,
