@@ -279,23 +279,25 @@ def _save_ray(path: Path, values: np.ndarray) -> None:
     os.replace(tmp, path)
 
 
+def _number(text: str) -> float:
+    """``text`` as a float, NaN if it is not a number (every range check below refuses NaN)."""
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
+
+
 def _bound_or_none(text: str) -> float | None:
     if text.lower() == "none":
         return None
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
+    value = _number(text)
     if not (math.isfinite(value) and value > 0.0):
         raise argparse.ArgumentTypeError(f"{text!r} is invalid: allowed a/b > 0 or 'none'")
     return value
 
 
 def _tolerance(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
+    value = _number(text)
     if not 1e-12 <= value <= 1e-2:
         raise argparse.ArgumentTypeError(f"{text!r} is invalid: allowed 1e-12 <= tol <= 1e-2")
     return value
