@@ -263,3 +263,41 @@ def test_the_wide_setting_takes_twice_the_elements_along_x_above_its_bound():
     assert node_options(config(axes, 48, 80, coarse=(0.6, None))["exact"], 0.316)["mx"] == 80
     assert "tol" not in node_options(plain["exact"], 1.0)      # the exact method's default
     assert node_options(config(axes, 48, 80, tol=1e-4)["exact"], 1.0)["tol"] == 1e-4
+
+
+def test_a_ghost_row_is_solved_like_a_node_row_but_not_part_of_the_domain(tmp_path):
+    # ghost_below=1 (grid.Axes): one more row of a/b one step below ab_lo, the exact solver's
+    # rays there (on the M x M grid); the rows inside are the rays of the same axes without it (all reused, to the
+    # bit); lookups at the inside nodes unchanged; below ab_lo still the exact method (warning).
+    plain, grid = AXES["small"], 16
+    ghost = Axes(**{**plain.to_record(), "ghost_below": 1})
+    assert "ghost_below" not in plain.to_record() and ghost.shape[0] == plain.n_ab + 1
+    np.testing.assert_array_equal(ghost.a_over_b()[1:], plain.a_over_b())
+    ab_g = float(ghost.a_over_b()[0])
+    assert ab_g == pytest.approx(plain.ab_lo ** 2 / plain.a_over_b()[1], rel=1e-12)
+    # the ghost row on the M x M grid, the rows inside as without it
+    opts = config(ghost, 48, 80)["exact"]
+    assert [node_options(opts, float(ab))["mx"] for ab in ghost.a_over_b()] == \
+        [48, 80, 48, 48, 48]
+    assert config(plain, 48, 80) == {**config(ghost, 48, 80), "axes": plain.to_record(),
+                                     "exact": {k: v for k, v in opts.items()
+                                               if k != "ghost_below"}}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        build(plain, grid, tmp_path / "w", tmp_path / "t", workers=1, progress=False)
+        assert reuse_rays(tmp_path / "w", ghost, config(ghost, grid), tmp_path / "wg") == \
+            len(rays(plain))
+        build(ghost, grid, tmp_path / "wg", tmp_path / "tg", workers=1, progress=False)
+    t, tg = data.load(str(tmp_path / "t")), data.load(str(tmp_path / "tg"))
+    np.testing.assert_array_equal(tg.values[1:], t.values)
+    ray = solve_ray(ab_g, float(ghost.nu()[0]), float(ghost.theta()[2]), float(ghost.psi()[1]),
+                    [float(v) for v in ghost.s()], node_options(tg.meta["config"]["exact"], ab_g),
+                    ghost.spin_weight(ab_g))
+    np.testing.assert_array_equal(tg.values[0, 0, 2, 1], np.asarray(ray, dtype=data.DTYPE))
+    kw = _state(float(plain.a_over_b()[1]), 0.28, 1.0, 0.4, 0.5)
+    assert cc.solve("table", **kw, folder=str(tmp_path / "tg")).Fx == pytest.approx(
+        cc.solve("table", **kw, folder=str(tmp_path / "t")).Fx, rel=1e-12)
+    with pytest.warns(TableDomainWarning):
+        r = cc.solve("table", **{**kw, **dict(zip("ab", _patch(0.5 * plain.ab_lo)))},
+                     folder=str(tmp_path / "tg"))
+    assert r.method == "exact"

@@ -38,7 +38,7 @@ DTYPE = np.float32
 @dataclass(frozen=True)
 class TableData:
     axes: Axes
-    values: np.ndarray          # (n_ab, n_nu, n_θ, n_ψ, n_s, 4), ``DTYPE``, read-only
+    values: np.ndarray          # (a/b rows incl. the ghost row, n_ν, n_θ, n_ψ, n_s, 4), ``DTYPE``
     lo: np.ndarray              # per axis: first node (ln(a/b), ν, θ, ψ, s)
     h: np.ndarray               # per axis: node step
     meta: dict[str, Any]
@@ -85,9 +85,10 @@ def load(folder: str | None = None) -> TableData:
         raise ValueError(f"{npz}: values of shape {values.shape} (want "
                          f"{axes.shape + (N_VALUES,)}), all finite")
     values.setflags(write=False)
-    lo = np.array([np.log(axes.ab_lo), axes.nu_lo, 0.0, 0.0, 0.0])
+    lo = np.array([np.log(axes.ab_lo) - axes.ghost_below * axes.ab_step(), axes.nu_lo, 0.0,
+                   0.0, 0.0])
     n = np.array(axes.shape, dtype=float)
-    span = np.array([np.log(axes.ab_hi / axes.ab_lo), axes.nu_hi - axes.nu_lo, np.pi,
-                     0.5 * np.pi, 1.0])
+    span = np.array([0.0, axes.nu_hi - axes.nu_lo, np.pi, 0.5 * np.pi, 1.0])
     h = span / np.maximum(n - 1.0, 1.0)
+    h[0] = axes.ab_step()
     return TableData(axes, values, lo, h, meta)

@@ -1,7 +1,8 @@
 """The table lookup: numba kernels from the creepages to the normalised forces.
 
 Interpolation is local and piecewise cubic: on each uniform axis the four nearest nodes with
-Lagrange's weights (one-sided at the ends), tensor product over ln(a/b), θ, ψ and s, linear in ν
+Lagrange's weights (one-sided at the ends, except where the ghost row of a/b extends the axis:
+``grid.Axes``), tensor product over ln(a/b), θ, ψ and s, linear in ν
 (two nodes; an axis of fewer than 4 nodes is linear, which θ, ψ and s never are: ``grid.Axes``).
 ψ is extended by one node beyond each end with the symmetries of the problem (:mod:`.grid`),
 :func:`with_psi_ghosts`, so that its stencil is always central: ξ -> -ξ maps ψ to π - ψ and
