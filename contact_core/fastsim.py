@@ -126,6 +126,13 @@ order to the same solution (160×160: 6.9 / 8.4, within 1.2 % of μN of "midpoin
 strips); but for pure ξ that grid is 1.4 / 2.6 (20×20) and 2.4 / 3.4 (40×40) off. (For pure
 spin the slip law here is CONTACT's: its FASTSIM scales the stick traction radially onto the
 bound; projecting along diag(L1, L2) instead is worse, parabolic 11.2 / 11.9.)
+Tried and not kept: a fourth flexibility for the spin term of the longitudinal slip, chosen as
+Kalker 1979 (sec. 5) chooses L_x and L_y, so that simplified theory reproduces a coefficient of
+linear theory, here C33 (pure spin: Mz = -(8/15) a² b³ φ / L4, so L4 = 8b/(15 G C33)). Against
+the method ``table`` (within 0.7 % of μN of the converged exact theory on these cases) on the
+benchmark's 400 cases, 20×20 "kalker", |F| p95 / max: parabolic pure spin 9.7 / 11.5 -> 6.9 /
+8.4, but with spin and creepage 7.7 / 13.5 -> 7.4 / 15.0; elliptic pure spin 7.7 / 10.7 -> 9.1 /
+11.9, with spin and creepage 8.7 / 16.1 -> 11.6 / 17.5 (measured 2026-11-24).
 
 and on CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is within 1.9 %
 of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" within 4.8 % (tests).
