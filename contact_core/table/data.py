@@ -38,7 +38,7 @@ DTYPE = np.float32
 @dataclass(frozen=True)
 class TableData:
     axes: Axes
-    values: np.ndarray          # (a/b rows incl. the ghost row, n_ν, n_θ, n_ψ, n_s, 4), ``DTYPE``
+    values: np.ndarray          # (a/b rows, ghost row incl., n_ν, n_θ, n_ψ, n_s, 4), read-only
     lo: np.ndarray              # per axis: first node (ln(a/b), ν, θ, ψ, s)
     h: np.ndarray               # per axis: node step
     meta: dict[str, Any]

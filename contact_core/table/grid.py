@@ -98,9 +98,10 @@ class Axes:
     worst states of ``check``'s hard region with a/b in [0.1, 0.178] (the row a/b = 0.0562
     solved, 80×80 extrapolated, for their stencils only), |F| error in % of μN: 1.03 -> 0.31,
     0.94 -> 0.31, 0.91 -> 0.14, 0.30 -> 0.36 (Lagrange's error constant of the one-sided cubic
-    is about 4 times the central one's; the row's grid: ``build``). No such row above ``ab_hi``: a/b = 17.8 (48×48) took
-    the four worst states of the spin band with a/b in [5.62, 10] from 0.21, 0.71, 0.65, 0.56
-    to 0.29, 0.71, 0.49, 0.45 % of μN, and Kalker's coefficients end at a/b = 10."""
+    is about 4 times the central one's; the row's grid: ``build``). No such row above
+    ``ab_hi``: a/b = 17.8 (48×48) took the four worst states of the spin band with a/b in
+    [5.62, 10] from 0.21, 0.71, 0.65, 0.56 to 0.29, 0.71, 0.49, 0.45 % of μN, and Kalker's
+    coefficients end at a/b = 10."""
 
     ab_lo: float = 0.1
     ab_hi: float = 10.0
