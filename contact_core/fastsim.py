@@ -99,11 +99,11 @@ linear theory).
     x_i + θ Δx_j, the pure-spin stick force exceeds the converged one by about 6θ/nx (summing the
     march against Kalker 1979 eq 37; θ = ½ gives 3/nx), so θ = 1/6 gives every creepage the same
     first-order excess 1/nx, the excess that makes up for simplified theory's shortfall in
-    partial slip (below). Measured against the method ``table`` (within 0.7 % of μN of the
-    converged exact theory there) on the benchmark's 400 cases, 20×20, |F| p95 / max: parabolic
-    pure spin 9.7 / 11.5 at θ = ½ -> 6.4 / 7.4, spin with creepage 7.7 / 13.5 -> 7.2 / 10.9;
-    elliptic 7.7 / 10.7 -> 5.9 / 9.2 and 8.7 / 16.1 -> 8.7 / 11.9 (θ = 0, second order in stick:
-    parabolic 4.8 / 7.3 and 6.4 / 10.2, elliptic 7.5 / 10.8 and 9.4 / 11.2).
+    partial slip (below; the table there gives the errors before and after). Against the method
+    ``table`` (within 0.7 % of μN of the converged exact theory there) on the benchmark's 400
+    cases, θ = 0, second order in stick, was not better overall (20×20, |F| p95 / max, pure φ and
+    with spin: parabolic 4.8 / 7.3 and 6.4 / 10.2, elliptic 7.5 / 10.8 and 9.4 / 11.2; θ = 1/6:
+    6.4 / 7.4 and 7.2 / 10.9, 5.9 / 9.2 and 8.7 / 11.9).
     The layout was taken from CONTACT; Kalker's 1982 listing itself was not available to check it
     against. With it this module reproduces CONTACT's ``tractcurv`` FASTSIM column (parabolic
     bound, 48×44 rectangular grid) within 1 % at every published point at the comparable
@@ -114,16 +114,18 @@ Richardson-extrapolated "kalker" curve equals the 400×400 "midpoint" curve to 0
 The default is chosen by the accuracy against the exact theory, not against FASTSIM's own grid
 limit: simplified theory under-estimates the force in partial slip, and the first-order excess of
 "kalker" at 20×20 makes up for much of it. Against the converged exact solution (benchmark, 400
-cases, 20×20, separate flexibilities, |F| error p95 / max in % of μN):
+cases, 20×20, separate flexibilities, |F| error p95 / max in % of μN; measured 2026-11-24 with
+the spin sampled at Δx_j/6 in "kalker", its pure φ and with-spin columns before that change in
+brackets):
 
-    ==========  ==========  ===========  ===========  ============  ===========
-    bound       scheme      pure ξ       ξ and η      pure φ        with spin
-    ==========  ==========  ===========  ===========  ============  ===========
-    parabolic   kalker      1.5 / 1.8    1.6 / 1.8    9.7 / 11.6    7.6 / 13.6
-    parabolic   midpoint    3.4 / 4.2    3.6 / 4.5    9.7 / 11.6    7.6 / 12.7
-    elliptic    kalker      5.6 / 6.1    5.7 / 6.1    6.9 / 10.3    8.7 / 16.2
-    elliptic    midpoint    4.7 / 6.0    4.9 / 5.9    4.4 / 8.5     8.4 / 12.8
-    ==========  ==========  ===========  ===========  ============  ===========
+    ==========  ==========  ===========  ===========  =====================  =====================
+    bound       scheme      pure ξ       ξ and η      pure φ                 with spin
+    ==========  ==========  ===========  ===========  =====================  =====================
+    parabolic   kalker      1.5 / 1.8    1.5 / 1.8    6.3 / 7.4 (9.7/11.6)   7.2 / 10.9 (7.6/13.6)
+    parabolic   midpoint    3.4 / 4.2    3.6 / 4.5    9.7 / 11.6             7.6 / 12.7
+    elliptic    kalker      5.6 / 6.1    5.7 / 6.1    6.0 / 9.3 (6.9/10.3)   8.7 / 11.9 (8.7/16.2)
+    elliptic    midpoint    4.7 / 6.0    4.9 / 5.9    4.4 / 8.5              8.4 / 12.8
+    ==========  ==========  ===========  ===========  =====================  =====================
 
 For pure spin the limit is simplified theory itself, not the grid: converged (100×100,
 "midpoint") it is 7.8 / 9.3 off with the parabolic bound and 5.3 / 8.3 with the elliptic one on
@@ -140,11 +142,12 @@ Tried and not kept: a fourth flexibility for the spin term of the longitudinal s
 Kalker 1979 (sec. 5) chooses L_x and L_y, so that simplified theory reproduces a coefficient of
 linear theory, here C33 (pure spin: Mz = -(8/15) a² b³ φ / L4, so L4 = 8b/(15 G C33)). Against
 the method ``table`` (within 0.7 % of μN of the converged exact theory on these cases) on the
-benchmark's 400 cases, 20×20 "kalker", |F| p95 / max: parabolic pure spin 9.7 / 11.5 -> 6.9 /
-8.4, but with spin and creepage 7.7 / 13.5 -> 7.4 / 15.0; elliptic pure spin 7.7 / 10.7 -> 9.1 /
-11.9, with spin and creepage 8.7 / 16.1 -> 11.6 / 17.5 (measured 2026-11-24).
+benchmark's 400 cases, 20×20 "kalker" (the spin then sampled at the step's midpoint), |F| p95 /
+max: parabolic pure spin 9.7 / 11.5 -> 6.9 / 8.4, but with spin and creepage 7.7 / 13.5 -> 7.4 /
+15.0; elliptic pure spin 7.7 / 10.7 -> 9.1 / 11.9, with spin and creepage 8.7 / 16.1 -> 11.6 /
+17.5 (measured 2026-11-24).
 
-and on CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is within 1.9 %
+On CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is within 1.9 %
 of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" within 4.8 % (tests).
 "midpoint" remains the scheme whose FASTSIM solution converges fastest with the grid (O(n⁻²)).
 
