@@ -91,18 +91,18 @@ DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.3, None)
 #: the |F| / Mz max from 1.22 / 1.52 (both on 48×48) to 1.25 / 1.29 (a/b = 10 on 96×48) and
 #: 0.83 / 0.84.
 WIDE_ABOVE: float | None = 4.0
-#: The ghost row of a/b (``--ghost-below``, ``grid.Axes``) is solved like the rows next to it
-#: (80×80 below ``FINE_INSIDE``), although its weight in the first interval's cubic is at most
-#: 0.064: 48×48 there is biased in Mz. Measured with the ghost row a/b = 0.0562 on 48×48 (2,650
-#: rays in 18 min on two workers) against the table without it, on the states of ``check`` with
-#: a/b in [0.1, 0.178] (286 random, 240 hard region; % of μN and μN·c): |F| p95 0.35 -> 0.23 and
-#: 0.58 -> 0.35, max 0.97 -> 0.56 and 1.03 -> 0.71; but Mz worse in 280 of the 286 random states,
-#: median 0.18 -> 0.25, p95 0.30 -> 0.39, hard-region max 0.81 -> 0.93. On four rays at a/b =
-#: 0.0562 against 96×96 (extrapolated), Mz is 0.47-1.47 % of μN·c off on 48×48, 0.10-0.37 % on
-#: 80×80 (Fx and Fy within 0.26 and 0.06 % of μN); on the four states of ``grid.Axes``,
-#: |F| 0.31, 0.31, 0.14, 0.36 % with the row on 80×80 and 0.32, 0.32, 0.15, 0.37 on 48×48, Mz
-#: 0.33, 0.35, 0.28, 0.91 against 0.38, 0.39, 0.32, 0.93 % (82 rays: 536 s against 78 s, one
-#: process).
+# The ghost row of a/b (``--ghost-below``, ``grid.Axes``) is solved like the rows next to it
+# (80×80 below ``FINE_INSIDE``), although its weight in the first interval's cubic is at most
+# 0.064: 48×48 there is biased in Mz. Measured with the ghost row a/b = 0.0562 on 48×48 (2,650
+# rays in 18 min on two workers) against the table without it, on the states of ``check`` with
+# a/b in [0.1, 0.178] (286 random, 240 hard region; % of μN and μN·c): |F| p95 0.35 -> 0.23 and
+# 0.58 -> 0.35, max 0.97 -> 0.56 and 1.03 -> 0.71; but Mz worse in 280 of the 286 random states,
+# median 0.18 -> 0.25, p95 0.30 -> 0.39, hard-region max 0.81 -> 0.93. On four rays at a/b =
+# 0.0562 against 96×96 (extrapolated), Mz is 0.47-1.47 % of μN·c off on 48×48, 0.10-0.37 % on
+# 80×80 (Fx and Fy within 0.26 and 0.06 % of μN); on the four states of ``grid.Axes``,
+# |F| 0.31, 0.31, 0.14, 0.36 % with the row on 80×80 and 0.32, 0.32, 0.15, 0.37 on 48×48, Mz
+# 0.33, 0.35, 0.28, 0.91 against 0.38, 0.39, 0.32, 0.93 % (82 rays: 536 s against 78 s, one
+# process).
 # ``--tol``: the exact solver's tolerance at the nodes (``config``). The shipped table was built
 # with the exact method's default, 1e-5. Measured on 40 random rays of each kind (two workers on
 # this 2-core machine, s per ray, default -> 1e-4): 80×80 2.55 -> 1.84, 48×48 0.53 -> 0.34,
