@@ -99,11 +99,12 @@ linear theory).
     x_i + θ Δx_j, the pure-spin stick force exceeds the converged one by about 6θ/nx (summing the
     march against Kalker 1979 eq 37; θ = ½ gives 3/nx), so θ = 1/6 gives every creepage the same
     first-order excess 1/nx, the excess that makes up for simplified theory's shortfall in
-    partial slip (below; the table there gives the errors before and after). Against the method
-    ``table`` (within 0.7 % of μN of the converged exact theory there) on the benchmark's 400
-    cases, θ = 0, second order in stick, was not better overall (20×20, |F| p95 / max, pure φ and
-    with spin: parabolic 4.8 / 7.3 and 6.4 / 10.2, elliptic 7.5 / 10.8 and 9.4 / 11.2; θ = 1/6:
-    6.4 / 7.4 and 7.2 / 10.9, 5.9 / 9.2 and 8.7 / 11.9).
+    partial slip (below; the table there gives the errors before and after). θ = 0 (the spin
+    force second order in stick) is better with the parabolic bound and worse with the elliptic
+    one (benchmark, converged references, 20×20, |F| p95 / max, pure φ and with spin: parabolic
+    4.7 / 7.0 and 6.5 / 10.2 against 6.3 / 7.4 and 7.2 / 10.9 at θ = 1/6, Mz 6.6 / 9.9 against
+    7.4 / 10.8; elliptic 7.7 / 10.8 and 9.4 / 11.2 against 6.0 / 9.3 and 8.7 / 11.9); not
+    adopted: a sampling point of this package's own, chosen per bound on the benchmark.
     The layout was taken from CONTACT; Kalker's 1982 listing itself was not available to check it
     against. With it this module reproduces CONTACT's ``tractcurv`` FASTSIM column (parabolic
     bound, 48×44 rectangular grid) within 1 % at every published point at the comparable
