@@ -79,9 +79,9 @@ leading edge (where p = 0) with the traction points and the traction bound at th
 x_i = a_j - (i + ½) Δx_j (i = 0 .. nx-1; the bound is never evaluated on the edge, where it is 0);
 they differ in the length of the first step, from the leading edge to the first centre, and in
 where the spin term is sampled. Every step of length τ ends at its traction point x and
-integrates the rigid slip over [x, x + τ] (spin term at x + τ/2, exact, in "midpoint"). Forces are sums F = Σ p ΔA with ΔA = Δx_j · 2b/ny, the spin
-moment is Mz = Σ (x p_y - y p_x) ΔA (z-moment about the contact centre, same sign convention as
-linear theory).
+integrates the rigid slip over [x, x + τ] (spin term at x + τ/2, exact, in "midpoint"). Forces
+are sums F = Σ p ΔA with ΔA = Δx_j · 2b/ny, the spin moment is Mz = Σ (x p_y - y p_x) ΔA
+(z-moment about the contact centre, same sign convention as linear theory).
 
 ``"midpoint"`` — a half step Δx_j/2 to the first centre (its exact distance from the
     leading edge), then full steps. In full stick the traction is exactly linear (ξ, η) or
