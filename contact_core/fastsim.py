@@ -103,8 +103,10 @@ are sums F = Σ p ΔA with ΔA = Δx_j · 2b/ny, the spin moment is Mz = Σ (x p
     force second order in stick) is better with the parabolic bound and worse with the elliptic
     one (benchmark, converged references, 20×20, |F| p95 / max, pure φ and with spin: parabolic
     4.7 / 7.0 and 6.5 / 10.2 against 6.3 / 7.4 and 7.2 / 10.9 at θ = 1/6, Mz 6.6 / 9.9 against
-    7.4 / 10.8; elliptic 7.7 / 10.8 and 9.4 / 11.2 against 6.0 / 9.3 and 8.7 / 11.9); not
-    adopted: a sampling point of this package's own, chosen per bound on the benchmark.
+    7.4 / 10.8; elliptic 7.7 / 10.8 and 9.4 / 11.2 against 6.0 / 9.3 and 8.7 / 11.9), but on
+    the held-out spin band of ``python -m contact_core.table check`` (300 states, a/b 1-10,
+    within 30° of pure spin; vector error) it is worse with both bounds (parabolic, |F| p95 /
+    max: 10×10 12.9 / 22.3 against 6.7 / 14.7, 20×20 6.0 / 11.6 against 6.0 / 8.1): not adopted.
     The layout was taken from CONTACT; Kalker's 1982 listing itself was not available to check it
     against. With it this module reproduces CONTACT's ``tractcurv`` FASTSIM column (parabolic
     bound, 48×44 rectangular grid) within 1 % at every published point at the comparable
