@@ -236,6 +236,7 @@ SCHEMES: dict[str, tuple[float, float]] = {"midpoint": (0.5, 0.5), "kalker": (1.
 #: Flexibilities (option ``flexibility``, module docstring): one per creepage blended towards one
 #: as the creepage grows (two weights), one per creepage, or Kalker 1982's single weighted one.
 FLEXIBILITIES: tuple[str, ...] = ("blended", "blended-contact", "separate", "weighted")
+_BLENDED, _BLENDED_CONTACT, _SEPARATE, _WEIGHTED = range(len(FLEXIBILITIES))
 
 # Rows of the fields array the kernel fills when asked.
 _FX, _FY, _FPX, _FPY, _FG, _FSLIP, _FAREA = range(7)
@@ -336,6 +337,47 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2:
     return fx, fy, mz, a_slip, a_tot
 
 
+def _flexibilities(a: float, b: float, G: float, mu: float, N: float, xi: float, eta: float,
+                   phi: float, c11: float, c22: float, c23: float,
+                   mode: int) -> tuple[float, float, float, float]:
+    """(1/L1, 1/L2, 1/L3, Ly/Lx) of one state (Pa/m, Pa/m, Pa/m, -; module docstring): Kalker
+    1982's flexibilities, changed by ``mode`` (``_BLENDED`` ... ``_WEIGHTED``, the index in
+    ``FLEXIBILITIES``; the blends only with the saturation effect, the caller's choice), and the
+    slip law's."""
+    l1 = 8.0 * a / (3.0 * G * c11)
+    l2 = 8.0 * a / (3.0 * G * c22)
+    l3 = math.pi * a * math.sqrt(a / b) / (4.0 * G * c23)
+    cphi = math.sqrt(a * b) * abs(phi)
+    if mode == _WEIGHTED and (xi != 0.0) + (eta != 0.0) + (phi != 0.0) > 1:
+        l1 = (l1 * abs(xi) + l2 * abs(eta) + l3 * cphi) / math.sqrt(xi * xi + eta * eta
+                                                                     + cphi * cphi)
+        l2 = l3 = l1
+    elif (mode == _BLENDED or mode == _BLENDED_CONTACT) and (xi != 0.0 or eta != 0.0):
+        # Vollebregt & Voltr 2023: towards the creepage-weighted harmonic mean as (ξ, η) grows
+        # to three times the creepage of linear theory's μN (creepages scaled by the largest:
+        # no underflow for tiny inputs)
+        sphi = 3.0 * math.pi * a * phi / 32.0
+        m = max(abs(xi), abs(eta), abs(sphi))
+        wx, wy, wp = (xi / m) ** 2, (eta / m) ** 2, (sphi / m) ** 2
+        l_one = (wx + wy + wp) / (wx / l1 + wy / l2 + wp / l3)
+        ch = mu * N / (G * a * b)           # > 0: N = 0 or μ = 0 never get here
+        w = min(1.0, math.sqrt(xi * xi + eta * eta) / (3.0 * ch * math.sqrt(
+            1.0 / (c11 * c11) + 1.0 / (c22 * c22))))
+        if mode == _BLENDED:
+            # scaled by the creepage's share of the linear force
+            f_creep = math.sqrt((c11 * xi / m) ** 2 + (c22 * eta / m) ** 2)
+            w *= f_creep / (f_creep + c23 * cphi / m)
+        l1 += w * (l_one - l1)
+        l2 += w * (l_one - l2)
+        l3 += w * (l_one - l3)
+    # the slip law's flexibilities along x and y (as weights in [0, 1]: no underflow to a zero
+    # flexibility for denormal inputs)
+    ax, ay = abs(xi) + cphi, abs(eta) + cphi
+    lx = l1 + (l3 - l1) * (cphi / ax) if ax > 0.0 else l1
+    ly = l2 + (l3 - l2) * (cphi / ay) if ay > 0.0 else l2
+    return 1.0 / l1, 1.0 / l2, 1.0 / l3, ly / lx
+
+
 def _onto_bound(hx: float, hy: float, g: float, r21: float) -> tuple[float, float]:
     """The slipping traction from the stick predictor (hx, hy), |(hx, hy)| > g, for the slip
     law's flexibility tensor diag(Lx, Ly), r21 = Ly/Lx (module docstring, flexibility
@@ -366,6 +408,7 @@ def _onto_bound(hx: float, hy: float, g: float, r21: float) -> tuple[float, floa
 
 
 _KERNEL: Callable | None = None
+_FLEX: Callable | None = None
 
 
 def _kernel() -> Callable:
@@ -377,6 +420,15 @@ def _kernel() -> Callable:
         _onto_bound = numba.njit(cache=True, nogil=True, error_model="numpy")(_onto_bound)
         _KERNEL = numba.njit(cache=True, nogil=True, error_model="numpy")(_march)
     return _KERNEL
+
+
+def _flexibilities_kernel() -> Callable:
+    """The numba-compiled :func:`_flexibilities` (cached on disk)."""
+    global _FLEX
+    if _FLEX is None:
+        import numba
+        _FLEX = numba.njit(cache=True, nogil=True, error_model="numpy")(_flexibilities)
+    return _FLEX
 
 
 @cached(64)
@@ -480,9 +532,6 @@ class Fastsim(ContactMethod):
         self._ny = self.options["ny"]
         self._elliptic = self.options["bound"] == "elliptic"
         self._first, self._spin_at = SCHEMES[o["scheme"]]
-        self._weighted = o["flexibility"] == "weighted"
-        self._blend = o["flexibility"] in ("blended", "blended-contact")
-        self._blend_share = o["flexibility"] == "blended"
         self._fields = bool(self.options["fields"])
         # Peak of p_n per unit N/(ab): 2/π (parabolic) or 3/(2π) (Hertz), times the load
         # normalisation of the discrete grid.
@@ -493,46 +542,24 @@ class Fastsim(ContactMethod):
         self._do_y = bool(eff.lateral or eff.spin)
         self._do_mz = bool(eff.spin)
         self._saturate = bool(eff.saturation)
+        # (index in FLEXIBILITIES) without the saturation effect nothing slides: no blend, the
+        # linear range's flexibilities throughout
+        self._mode = FLEXIBILITIES.index(o["flexibility"])
+        if not self._saturate and self._mode in (_BLENDED, _BLENDED_CONTACT):
+            self._mode = _SEPARATE
         self._kern = _kernel()
+        self._flex = _flexibilities_kernel()
 
     def _step_impl(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
                    b: float, G: float, nu: float,
                    warm_start: ContactResult | None) -> ContactResult:
         c11, c22, c23, _ = creep_coefficients(a / b, nu)
-        # Flexibilities (Kalker 1982), m/Pa (module docstring)
-        l1 = 8.0 * a / (3.0 * G * c11)
-        l2 = 8.0 * a / (3.0 * G * c22)
-        l3 = math.pi * a * math.sqrt(a / b) / (4.0 * G * c23)
-        cphi = math.sqrt(a * b) * abs(phi)
-        if self._weighted and (xi != 0.0) + (eta != 0.0) + (phi != 0.0) > 1:
-            l1 = l2 = l3 = (l1 * abs(xi) + l2 * abs(eta) + l3 * cphi) / math.sqrt(
-                xi * xi + eta * eta + cphi * cphi)
-        if self._blend and self._saturate and (xi != 0.0 or eta != 0.0):
-            # Vollebregt & Voltr 2023 (module docstring): towards the creepage-weighted harmonic
-            # mean as (ξ, η) grows to three times the creepage of linear theory's μN (without
-            # the saturation effect nothing slides: the linear range's flexibilities throughout)
-            # (the creepages scaled by the largest: no underflow for tiny inputs)
-            sphi = 3.0 * math.pi * a * phi / 32.0
-            m = max(abs(xi), abs(eta), abs(sphi))
-            wx, wy, wp = (xi / m) ** 2, (eta / m) ** 2, (sphi / m) ** 2
-            l_one = (wx + wy + wp) / (wx / l1 + wy / l2 + wp / l3)
-            ch = mu * N / (G * a * b)          # > 0: N = 0 or μ = 0 never get here
-            w = min(1.0, math.hypot(xi, eta) / (3.0 * math.hypot(ch / c11, ch / c22)))
-            if self._blend_share:
-                # scaled by the creepage's share of the linear force (module docstring)
-                f_creep = math.hypot(c11 * xi / m, c22 * eta / m)
-                w *= f_creep / (f_creep + c23 * cphi / m)
-            l1, l2, l3 = l1 + w * (l_one - l1), l2 + w * (l_one - l2), l3 + w * (l_one - l3)
-        # flexibilities of the slip law along x and y (module docstring)
-        # (as weights in [0, 1]: no underflow to a zero flexibility for denormal inputs)
-        ax, ay = abs(xi) + cphi, abs(eta) + cphi
-        lx = l1 + (l3 - l1) * (cphi / ax) if ax > 0.0 else l1
-        ly = l2 + (l3 - l2) * (cphi / ay) if ay > 0.0 else l2
+        k1, k2, k3, r21 = self._flex(a, b, G, mu, N, xi, eta, phi, c11, c22, c23, self._mode)
         g0 = mu * N * self._g_factor / (a * b)
         nx, ny = self._nx, self._ny
         out = np.empty((7, ny, nx)) if self._fields else None
         fx, fy, mz, a_slip, a_tot = self._kern(
-            a, b, xi, eta, phi, 1.0 / l1, 1.0 / l2, 1.0 / l3, ly / lx, g0, self._elliptic, nx, ny,
+            a, b, xi, eta, phi, k1, k2, k3, r21, g0, self._elliptic, nx, ny,
             self._first, self._spin_at,
             self._do_x, self._do_y, self._do_mz, self._saturate, out)
         eff = self.effects
