@@ -38,9 +38,13 @@ class Setting:
         return dict(self.options)
 
 
-def _fastsim(n: int, bound: str) -> Setting:
-    return Setting(f"FASTSIM {n}×{n} {bound}", "fastsim",
-                   (("nx", n), ("ny", n), ("bound", bound)), family=f"fastsim {bound}")
+def _fastsim(n: int, bound: str, flexibility: str | None = None) -> Setting:
+    """FASTSIM n×n; ``flexibility`` None: the method's default (not in the label)."""
+    extra = f" {flexibility}" if flexibility else ""
+    opts = (("nx", n), ("ny", n), ("bound", bound)) + ((("flexibility", flexibility),)
+                                                       if flexibility else ())
+    return Setting(f"FASTSIM {n}×{n} {bound}{extra}", "fastsim", opts,
+                   family=f"fastsim {bound}{extra}")
 
 
 def _exact(m: int) -> Setting:
@@ -52,19 +56,22 @@ def _exact_extrapolated(m: int) -> Setting:
                    family="exact extrapolated")
 
 
-#: FASTSIM and exact grids per form of the benchmark.
+#: FASTSIM and exact grids per form of the benchmark; "fastsim other flexibilities": grids at
+#: which FASTSIM also runs with its other blends of the flexibilities (module ``fastsim``).
 GRIDS: dict[str, dict[str, tuple[int, ...]]] = {
-    "short": {"fastsim": (5, 10, 20, 40), "exact": (12, 16, 24, 32),
-              "exact extrapolated": (24, 52)},
-    "full": {"fastsim": (5, 10, 20, 40, 80), "exact": (12, 16, 24, 32, 48),
-             "exact extrapolated": (24, 48, 52)},
-    "smoke": {"fastsim": (5, 10), "exact": (8, 12), "exact extrapolated": (16,)},
+    "short": {"fastsim": (5, 10, 20, 40), "fastsim other flexibilities": (),
+              "exact": (12, 16, 24, 32), "exact extrapolated": (24, 52)},
+    "full": {"fastsim": (5, 10, 20, 40, 80), "fastsim other flexibilities": (20,),
+             "exact": (12, 16, 24, 32, 48), "exact extrapolated": (24, 48, 52)},
+    "smoke": {"fastsim": (5, 10), "fastsim other flexibilities": (),
+              "exact": (8, 12), "exact extrapolated": (16,)},
 }
 
 
 def default_settings(form: str = "short") -> list[Setting]:
     """linear; Johnson–Vermeulen (both normalisations, Shen–Hedrick–Elkins spin); FASTSIM at
-    several grids with both traction bounds; the table; exact at several grids, on one grid and
+    several grids with both traction bounds (in the full form also with its other blends of the
+    flexibilities at 20×20); the table; exact at several grids, on one grid and
     extrapolated. Cheapest family first."""
     if form not in GRIDS:
         raise ValueError(f"form={form!r} is unknown: allowed {sorted(GRIDS)}")
@@ -76,6 +83,8 @@ def default_settings(form: str = "short") -> list[Setting]:
                    family="johnson_vermeulen original")]
     for bound in ("parabolic", "elliptic"):
         out += [_fastsim(n, bound) for n in g["fastsim"]]
+        out += [_fastsim(n, bound, f) for n in g["fastsim other flexibilities"]
+                for f in ("blended-contact", "separate")]
     out.append(Setting("table", "table"))
     out += [_exact(m) for m in g["exact"]]
     out += [_exact_extrapolated(m) for m in g["exact extrapolated"]]
