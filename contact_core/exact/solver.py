@@ -55,8 +55,9 @@ d431cdb, exact steady rolling, M=0, B=0, on the same grids over 1.1× the ellips
 2026-11-25) on the same 160 cases: |F| 12×12 3.7 / 8.1, 20×20 1.9 / 4.2, 32×32 1.3 / 2.7; Mz (%
 of μN·c) 3.1 / 7.0, 1.9 / 3.9, 1.2 / 2.4, where θ = 1/4 gives 2.0 / 5.1, 1.4 / 2.9, 0.8 / 1.9.
 On the 80 pure-ξ cases the two agree to 5e-7 μN on all three grids. Pure ξ and η are
-unaffected (the same discretisation as CONTACT's). Kalker's reciprocity C32 = -C23 (Mz per η equals -Fy per φ·c) holds in the limit:
-the shift changes Fy(φ) by -G c² C22 φ θ dx, first order in the element size (tests).
+unaffected (the same discretisation as CONTACT's). Kalker's reciprocity C32 = -C23 (Mz per η
+equals -Fy per φ·c) holds in the limit: the shift changes Fy(φ) by -G c² C22 φ θ dx, first order
+in the element size (tests).
 
 Extrapolation (option ``extrapolate``, default on): the solve is repeated on the half grid
 (mx/2 × my/2) and the two are combined by Richardson's rule for a first-order error,
