@@ -331,7 +331,7 @@ def test_default_closer_to_contacts_exact_curve_than_contacts_fastsim():
 
 
 @pytest.mark.parametrize("flexibility", ["separate", "blended-contact", "blended"])
-def test_separate_flexibilities_reproduce_linear_theory_for_combined_creepage(flexibility):
+def test_per_creepage_flexibilities_reproduce_linear_theory_for_combined_creepage(flexibility):
     # Each creepage has its own flexibility, so at vanishing creepage FASTSIM gives every term
     # of Kalker's linear theory at once (Kalker 1979, eq 17), also with ξ, η and φ together
     # (the blends leave the linear range alone); Kalker 1982's single weighted flexibility does
