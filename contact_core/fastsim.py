@@ -406,28 +406,20 @@ def _onto_bound(hx: float, hy: float, g: float, r21: float) -> tuple[float, floa
     return px * f, py * f
 
 
-_KERNEL: Callable | None = None
-_FLEX: Callable | None = None
+_KERNELS: tuple[Callable, Callable] | None = None
 
 
-def _kernel() -> Callable:
-    """The numba-compiled :func:`_march` (imports numba on first use; cached on disk)."""
-    global _KERNEL
-    if _KERNEL is None:
+def _kernels() -> tuple[Callable, Callable]:
+    """The numba-compiled :func:`_march` and :func:`_flexibilities` (imports numba on first use;
+    cached on disk)."""
+    global _KERNELS
+    if _KERNELS is None:
         import numba
         global _onto_bound
-        _onto_bound = numba.njit(cache=True, nogil=True, error_model="numpy")(_onto_bound)
-        _KERNEL = numba.njit(cache=True, nogil=True, error_model="numpy")(_march)
-    return _KERNEL
-
-
-def _flexibilities_kernel() -> Callable:
-    """The numba-compiled :func:`_flexibilities` (cached on disk)."""
-    global _FLEX
-    if _FLEX is None:
-        import numba
-        _FLEX = numba.njit(cache=True, nogil=True, error_model="numpy")(_flexibilities)
-    return _FLEX
+        jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+        _onto_bound = jit(_onto_bound)
+        _KERNELS = (jit(_march), jit(_flexibilities))
+    return _KERNELS
 
 
 @cached(64)
@@ -546,8 +538,7 @@ class Fastsim(ContactMethod):
         self._mode = FLEXIBILITIES.index(o["flexibility"])
         if not self._saturate and self._mode in (_BLENDED, _BLENDED_CONTACT):
             self._mode = _SEPARATE
-        self._kern = _kernel()
-        self._flex = _flexibilities_kernel()
+        self._kern, self._flex = _kernels()
 
     def _step_impl(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
                    b: float, G: float, nu: float,

@@ -41,8 +41,9 @@ class Setting:
 def _fastsim(n: int, bound: str, flexibility: str | None = None) -> Setting:
     """FASTSIM n×n; ``flexibility`` None: the method's default (not in the label)."""
     extra = f" {flexibility}" if flexibility else ""
-    opts = (("nx", n), ("ny", n), ("bound", bound)) + ((("flexibility", flexibility),)
-                                                       if flexibility else ())
+    opts: tuple[tuple[str, Any], ...] = (("nx", n), ("ny", n), ("bound", bound))
+    if flexibility:
+        opts += (("flexibility", flexibility),)
     return Setting(f"FASTSIM {n}×{n} {bound}{extra}", "fastsim", opts,
                    family=f"fastsim {bound}{extra}")
 
