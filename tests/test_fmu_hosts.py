@@ -81,14 +81,16 @@ def test_libcosim_runs_different_contact_fmus(fmus, other_version, tmp_path):
     assert (v2["Fx"], traction["Fx"]) == pytest.approx((2.0 * r3.Fx, r1.Fx), rel=1e-9)
 
 
-def test_libcosim_gets_the_message_before_the_error(fmus):
+def test_libcosim_gets_the_message_before_the_error(fmus, tmp_path):
     """libcosim ends its host on any non-OK status at initialisation; the reason must have been
-    logged by then (a separate process, which libcosim terminates)."""
+    logged by then (a separate process, which libcosim terminates; its temporary folder, where
+    libcosim unpacks the FMU and which a terminated host cannot remove, goes in tmp_path)."""
     code = ("import sys\n"
             "from wheel_rail_fmu.host import run_in_libcosim\n"
             "run_in_libcosim([sys.argv[1]], {'xi': 1e-3, 'N': 1e5, 'E': -1.0}, initial=True)\n")
     out = subprocess.run([sys.executable, "-c", code, str(fmus["traction"])],
-                         capture_output=True, text=True, timeout=300)
+                         capture_output=True, text=True, timeout=300,
+                         env={**os.environ, "TMPDIR": str(tmp_path)})
     text = out.stdout + out.stderr
     assert out.returncode != 0
     logged = text.index("E=-1.0 is out of range: allowed 0 < E < inf")
