@@ -96,7 +96,7 @@ and 6.59/6.77, (ξ, η) 1.75/2.55 and 6.31/6.67, pure φ 6.50/7.59 and 6.01/9.22
 and 6.43/10.93, Mz 7.95/11.69 and 5.46/11.15; this module's default there: 1.53/1.83 and 5.63/6.11,
 1.57/1.59 and 5.93/6.08, 1.54/1.88 and 5.70/6.09, 6.34/7.42 and 6.05/9.29, 3.49/6.44 and 5.77/8.15,
 Mz 7.60/10.62 and 4.49/11.37 (the pure-creepage p95 differences are the grid layout's, strips here
-and a rectangle there, see below).
+and a rectangle there, and the creep coefficients', see below).
 
 Traction bound g = μ p_n (option ``bound``):
 
@@ -179,6 +179,19 @@ order to the same solution (160×160: 6.9 / 8.4, within 1.2 % of μN of "midpoin
 strips); but for pure ξ that grid is 1.4 / 2.6 (20×20) and 2.4 / 3.4 (40×40) off. (For pure
 spin the slip law here is CONTACT's: its FASTSIM scales the stick traction radially onto the
 bound; projecting along diag(L1, L2) instead is worse, parabolic 11.2 / 11.9.)
+Tried and not kept: that rectangular grid as a layout option, with this module's current scheme
+and flexibilities (measured 2026-11-25 on the benchmark's 400 cases, 20×20, beside CONTACT's
+FASTSIM on the same grid; |F| p95 / max, strips -> rectangle, CONTACT in brackets). Parabolic:
+pure ξ 1.53 / 1.83 -> 1.45 / 2.58 (1.44 / 2.58), pure η 1.57 / 1.59 -> 1.40 / 2.33 (1.40 / 2.30),
+(ξ, η) 1.54 / 1.88 -> 1.77 / 2.57 (1.75 / 2.55), with spin 3.49 / 6.44 -> 3.58 / 6.75 (5.37 /
+12.68). Elliptic: pure ξ 5.63 / 6.11 -> 6.14 / 6.71 (6.16 / 6.76), pure φ 6.05 / 9.29 -> 6.06 /
+9.44 (6.01 / 9.22), Mz max 11.37 -> 11.14 (11.15). The rectangle trades the strips' lower maxima
+for lower p95 on pure creepage with the parabolic bound, and is worse elsewhere; on pure
+creepage it comes within 0.2 % of μN of CONTACT's results, not to them: the flexibilities
+differ by up to 0.1 % (ours/CONTACT's linear-range force 1.0011 at a/b = 0.2, 1.00006 at 5).
+Both take the creep coefficients from Kalker's table (Kalker 1990, table E.3), at ν = 0.28
+between its columns ν = 0.25 and 0.5: CONTACT interpolates 1/C quadratically in ν, this package
+ln C (``coefficients``).
 Tried and not kept: a fourth flexibility for the spin term of the longitudinal slip, chosen as
 Kalker 1979 (sec. 5) chooses L_x and L_y, so that simplified theory reproduces a coefficient of
 linear theory, here C33 (pure spin: Mz = -(8/15) a² b³ φ / L4, so L4 = 8b/(15 G C33)). Against
