@@ -277,3 +277,38 @@ def test_host_contact_core_is_not_used(fmus):
     _, ref = reference("johnson_vermeulen", xi=1e-3, N=1e5,
                        effects=cc.load_scene("traction").effects)
     assert float(out[2]) == ref[0]
+
+
+def test_cache_folder_drops_idle_copies(fmus, tmp_path):
+    """A start removes the bundle copies no start has used for MAX_IDLE_DAYS days (also one a
+    failed start left incomplete), keeps the recent ones and anything else in the folder, and
+    marks its own copy as used, so a copy in use is never idle."""
+    import os
+    import time
+    import zipfile
+
+    from wheel_rail_fmu.entry import MAX_IDLE_DAYS
+    fmu = fmus["traction"]
+    with zipfile.ZipFile(fmu) as z:
+        own = "_" + z.read("resources/slavemodule.txt").decode().strip()
+    cache = tmp_path / "cache"
+    day = 86400.0
+    idle = time.time() - (MAX_IDLE_DAYS + 1) * day
+    recent = time.time() - (MAX_IDLE_DAYS - 1) * day
+    ages = {"_wheel_rail_contact_00000000000000000000": idle,
+            "_wheel_rail_contact_11111111111111111111.x7y_3": idle,   # an interrupted copy
+            "_wheel_rail_contact_22222222222222222222": recent,
+            "user_notes": idle}
+    for name, t in ages.items():
+        (cache / name / "pkg").mkdir(parents=True)
+        (cache / name / "pkg" / "f.py").write_text("x = 1\n")
+        os.utime(cache / name, (t, t))
+    code = (f"import fmpy\nfmpy.simulate_fmu({str(fmu)!r}, stop_time=1e-3, output_interval=1e-3,"
+            " start_values={'N': 1e5, 'xi': 1e-3})\n")
+    env = {**os.environ, "CONTACT_CORE_FMU_CACHE": str(cache)}
+    for _ in range(2):
+        subprocess.run([sys.executable, "-c", code], check=True, env=env, capture_output=True)
+        assert sorted(p.name for p in cache.iterdir()) == sorted(
+            [own, "_wheel_rail_contact_22222222222222222222", "user_notes"])
+        assert (cache / own).stat().st_mtime > recent + day
+        os.utime(cache / own, (idle, idle))    # the second start finds its own copy idle

@@ -13,7 +13,9 @@ package, so
   folder, :func:`cache_root` (``$CONTACT_CORE_FMU_CACHE``, else ``$XDG_CACHE_HOME/contact_core/fmu``,
   else ``~/.cache/contact_core/fmu``), one sub-folder per digest, where numba's on-disk cache
   (``cache=True``) and Python's bytecode then live next to the sources. Deleting the folder is
-  always safe (it is rebuilt on the next start, and compiled again). An FMU's own extraction
+  always safe (it is rebuilt on the next start, and compiled again). Each start marks its
+  sub-folder as used (its modification time) and removes the sub-folders no FMU has used for
+  :data:`MAX_IDLE_DAYS` days, so the folder does not grow with every version ever run. An FMU's own extraction
   folder cannot serve: hosts extract to a new temporary folder each time and delete it. The
   sources are checked against the digest at every start; the compiled caches are trusted as
   Python and numba trust theirs, so the folder must be writable by its user only (it is created
@@ -35,6 +37,7 @@ import os
 import shutil
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 #: File-name prefix of the slave module; the bundle package is the same name with a leading "_".
@@ -43,6 +46,8 @@ PREFIX = "wheel_rail_contact_"
 CACHE_ENV = "CONTACT_CORE_FMU_CACHE"
 #: Messages for the slave to log (e.g. why the cache folder was not used).
 NOTICES: list[str] = []
+#: A verified copy no FMU has started from for this long is removed by the next start.
+MAX_IDLE_DAYS = 30
 _SKIP = "__pycache__"
 
 
@@ -78,8 +83,11 @@ def _home(src: Path, name: str, digest: str) -> Path:
     root = cache_root()
     home = root / name
     try:
-        if (home / name).is_dir() and bundle_digest(home / name) == digest:
-            return home
+        if (home / name).is_dir():
+            _touch(home)          # before the check: a start removing idle copies now keeps it
+            if bundle_digest(home / name) == digest:
+                _remove_idle(root, home)
+                return home
         root.mkdir(mode=0o700, parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=f"{name}.", dir=root))
         _copy(src, tmp, name, digest)
@@ -91,6 +99,7 @@ def _home(src: Path, name: str, digest: str) -> Path:
             shutil.rmtree(tmp, ignore_errors=True)
         if bundle_digest(home / name) != digest:
             raise OSError(f"{home} does not hold the bundle {digest}")
+        _remove_idle(root, home)
         return home
     except OSError as e:
         tmp = Path(tempfile.mkdtemp(prefix=f"{name}."))
@@ -100,6 +109,32 @@ def _home(src: Path, name: str, digest: str) -> Path:
                        f"again in every process: the cache folder {root} is not usable ({e}); "
                        f"set {CACHE_ENV} to a writable folder")
         return tmp
+
+
+def _touch(home: Path) -> None:
+    """Mark the copy ``home`` as used now (its modification time; best effort)."""
+    try:
+        os.utime(home)
+    except OSError:
+        pass
+
+
+def _remove_idle(root: Path, home: Path) -> None:
+    """Remove the bundle copies in ``root`` other than ``home`` (and copies left incomplete by a
+    failed start) that no start has touched for :data:`MAX_IDLE_DAYS` days. Each is renamed
+    before it is deleted, so a start that touched it meanwhile fails its digest check and copies
+    the bundle anew. Best effort: errors are ignored."""
+    limit = time.time() - MAX_IDLE_DAYS * 86400.0
+    try:
+        for p in root.iterdir():
+            if (not p.name.startswith("_" + PREFIX) or p == home or not p.is_dir()
+                    or p.stat().st_mtime >= limit):
+                continue
+            if ".removing." not in p.name:        # (a rename keeps the folder's own time)
+                p = p.rename(p.with_name(f"{p.name}.removing.{os.getpid()}"))
+            shutil.rmtree(p, ignore_errors=True)
+    except OSError:
+        pass
 
 
 def load_slave_class(resources: Path, module_name: str) -> type:
