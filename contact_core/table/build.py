@@ -76,8 +76,12 @@ AXES = {"full": Axes(ghost_below=1), "small": Axes(n_ab=4, n_theta=7, n_psi=4, n
 #: state at a/b = 0.132 is limited by the a/b nodes (README). The whole row a/b = 0.316 on 80×80
 #: (``--fine-below 0.4``, 2,650 rays, about 1.9 h on two workers), on ``check``'s states with a/b
 #: in 0.178-0.562 (515 random, 478 hard region): |F| p95 0.43 -> 0.24 and 0.47 -> 0.34 %, max
-#: 0.92 -> 0.79 and 1.08 -> 1.07 % (the last at a/b = 0.466, limited by the a/b axis, README).
-DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.4, None)
+#: 0.92 -> 0.79 and 1.08 -> 1.07 % (the last at a/b = 0.466, which reads the row 0.562). The
+#: row a/b = 0.562 on 80×80 too (``--fine-below 0.6``, 2,650 rays, about 2 h): ``check``'s random
+#: states at a/b 0.316-0.562 and 0.562-1, |F| p95 0.29 -> 0.20 and 0.26 -> 0.20 %, max 0.77 ->
+#: 0.75 and 0.45 -> 0.43 %; the hard region's max 1.07 -> 0.96 % (a/b = 0.716; the state at 0.466
+#: 0.95 %), p95 0.33 -> 0.30 %.
+DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.6, None)
 #: ``--wide-above A``: inside ``FINE_INSIDE`` and above a/b = A the nodes are solved on 2M × M
 #: elements: along the rolling direction, where the contact is long, the square grid's elements
 #: are a/b times as long as wide. Measured against the converged exact theory (the references of
@@ -119,6 +123,13 @@ WIDE_ABOVE: float | None = 4.0
 # and the largest force change s·g in % of μN): 48×48 at a/b = 1: 1e-4 0.69 and 0.0014, 3e-4
 # 0.56 and 0.0031, 1e-3 0.42 and 0.014; 80×80 at a/b = 0.178: 0.70 and 0.0027, 0.58 and
 # 0.0080, 0.45 and 0.059.
+# Measured again 2026-11-25 on 6 random rays per row (one process beside a running build; time
+# relative to 1e-5, the fine grid's sweeps in the same ratio within 0.03; the largest node change
+# s·g in % of μN), for 3e-4, 5e-4, 1e-3: 80×80 at a/b = 0.178 0.59, 0.53, 0.45 and 0.008, 0.014,
+# 0.059; at a/b = 0.562 0.58, 0.51, 0.45 and 0.007, 0.016, 0.028; 96×48 at a/b = 10 0.50, 0.45,
+# 0.38 and 0.007, 0.019, 0.055; 48×48 at a/b = 1 0.57, 0.51, 0.42 and 0.003, 0.011, 0.014. The
+# shipped design from scratch (about 14 h at 1e-5) would take about 7.8 h at 3e-4, 7.0 h at 5e-4
+# and 6.0 h at 1e-3.
 # The canonical problem every node is solved in (similarity: any values would do): c = √(ab),
 # G, μ, and N = G c² so that G c²/(μN) = 1 and the reduced creepages are C·(ξ, η, c φ).
 _C, _G, _MU = 1e-2, 8e10, 1.0
