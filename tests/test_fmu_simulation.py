@@ -6,8 +6,11 @@ standard's statuses (sec. 2.1.3) and state machine (sec. 4.2.4)."""
 from __future__ import annotations
 
 import math
+import os
 import subprocess
 import sys
+import time
+import zipfile
 
 import numpy as np
 import pytest
@@ -17,7 +20,7 @@ from fmpy.fmi1 import FMICallException
 import contact_core as cc
 from conftest import options_for
 from wheel_rail_fmu.build import build
-from wheel_rail_fmu.entry import cache_root
+from wheel_rail_fmu.entry import MAX_IDLE_DAYS, cache_root
 from wheel_rail_fmu.host import FmuInstance
 
 GEOM = (0.46, math.inf, 0.3)
@@ -283,11 +286,6 @@ def test_cache_folder_drops_idle_copies(fmus, tmp_path):
     """A start removes the bundle copies no start has used for MAX_IDLE_DAYS days (also one a
     failed start left incomplete), keeps the recent ones and anything else in the folder, and
     marks its own copy as used, so a copy in use is never idle."""
-    import os
-    import time
-    import zipfile
-
-    from wheel_rail_fmu.entry import MAX_IDLE_DAYS
     fmu = fmus["traction"]
     with zipfile.ZipFile(fmu) as z:
         own = "_" + z.read("resources/slavemodule.txt").decode().strip()

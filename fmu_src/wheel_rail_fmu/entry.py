@@ -15,11 +15,11 @@ package, so
   (``cache=True``) and Python's bytecode then live next to the sources. Deleting the folder is
   always safe (it is rebuilt on the next start, and compiled again). Each start marks its
   sub-folder as used (its modification time) and removes the sub-folders no FMU has used for
-  :data:`MAX_IDLE_DAYS` days, so the folder does not grow with every version ever run. An FMU's own extraction
-  folder cannot serve: hosts extract to a new temporary folder each time and delete it. The
-  sources are checked against the digest at every start; the compiled caches are trusted as
-  Python and numba trust theirs, so the folder must be writable by its user only (it is created
-  with mode 0700).
+  :data:`MAX_IDLE_DAYS` days, so the folder does not grow with every version ever run. An FMU's
+  own extraction folder cannot serve: hosts extract to a new temporary folder each time and
+  delete it. The sources are checked against the digest at every start; the compiled caches are
+  trusted as Python and numba trust theirs, so the folder must be writable by its user only (it
+  is created with mode 0700).
 
 If the cache folder cannot be written, the package runs from a private temporary copy (compiled
 anew in each process) and :data:`NOTICES` says why (the bundle package keeps them as
