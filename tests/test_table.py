@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import shutil
 import warnings
 
@@ -19,8 +20,8 @@ import pytest
 import contact_core as cc
 from contact_core.table import TableDomainWarning, data
 from contact_core.table.build import (AXES, DEFAULT_FINE_GRID, DEFAULT_GRID, FINE_INSIDE,
-                                      WIDE_ABOVE, build, config, node_options, rays, reuse_rays,
-                                      solve_ray)
+                                      SESSIONS, WIDE_ABOVE, _ray_file, build, config,
+                                      node_options, rays, reuse_rays, solve_ray, wall_time)
 from contact_core.table.grid import Axes, creepages_from_reduced, node_reduced_creepage
 
 G, N, MU = 8e10, 1e5, 0.3
@@ -213,11 +214,36 @@ def test_build_pipeline_is_resumable_and_reproducible(tmp_path):
                        progress=False)
     assert first.read_bytes() == second.read_bytes()
     t = data.load(str(tmp_path / "t2"))
+    n = len(rays(axes))
+    assert [(x["rays_solved"], x["rays_reused"]) for x in t.meta["sessions"]] == \
+        [(n - len(range(0, n, 2)), 0), (len(range(0, n, 2)), 0)]
+    assert t.meta["rays_untimed"] == 0 and all(x["seconds"] > 0 for x in t.meta["sessions"])
     ray = solve_ray(float(axes.a_over_b()[1]), float(axes.nu()[1]), float(axes.theta()[3]),
                     float(axes.psi()[2]), [float(v) for v in axes.s()],
                     node_options(t.meta["config"]["exact"], float(axes.a_over_b()[1])),
                     axes.spin_weight(float(axes.a_over_b()[1])))
     np.testing.assert_array_equal(t.values[1, 1, 3, 2], np.asarray(ray, dtype=data.DTYPE))
+
+
+def test_the_build_time_is_summed_over_its_sessions(tmp_path):
+    # Two sessions (started at t = 1000 s and 5000 s, each killed after its last saved ray) and
+    # one ray saved by a run that recorded no session: 100 s + 300 s, the last ray untimed.
+    axes = AXES["small"]
+    all_rays = rays(axes)
+    (tmp_path / SESSIONS).write_text(
+        json.dumps({"start": 5000.0, "rays_reused": 0, "rays_missing": 4}) + "\n"
+        + json.dumps({"start": 1000.0, "rays_reused": 2, "rays_missing": 9}) + "\n")
+    saved = [1000.0, 1000.5] + list(np.linspace(1010.0, 1100.0, 7)) \
+        + list(np.linspace(5020.0, 5300.0, len(all_rays) - 10)) + [900.0]
+    for r, t in zip(all_rays, saved):
+        np.save(_ray_file(tmp_path, r), np.zeros(1))
+        os.utime(_ray_file(tmp_path, r), (t, t))
+    w = wall_time(tmp_path, all_rays)
+    assert w["wall_seconds"] == 400.0 and w["rays_untimed"] == 1
+    assert w["sessions"] == [
+        {"start": "1970-01-01 00:16:40 UTC", "seconds": 100.0, "rays_solved": 7, "rays_reused": 2},
+        {"start": "1970-01-01 01:23:20 UTC", "seconds": 300.0, "rays_solved": len(all_rays) - 10,
+         "rays_reused": 0}]
 
 
 def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
@@ -249,6 +275,8 @@ def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
     again = build(coarse, grid, tmp_path / "w5", tmp_path / "t5", workers=1, progress=False,
                   reuse=[tmp_path / "t"])
     assert again.read_bytes() == (tmp_path / "t" / f"{data.NAME}.npz").read_bytes()
+    assert [(x["rays_solved"], x["rays_reused"]) for x in data.load(str(tmp_path / "t5")).meta[
+        "sessions"]] == [(0, len(rays(coarse)))]
     # --tol 1e-4 (build.py): the forces s g of the ray within the tolerance (of μN, μN c)
     loose = solve_ray(ab, nu, float(fine.theta()[4]), float(fine.psi()[1]),
                       [float(v) for v in fine.s()],

@@ -27,6 +27,13 @@ When every ray is there the table is assembled and written to ``--out`` (default
 ``contact_core/data``) with its metadata (:mod:`.data`): the command, the configuration, its
 digest, the build's wall time and the SHA-256 of the values. Nothing in the build is random: the
 same configuration gives the same table.
+
+Wall time across sessions: every run that solves or reuses rays appends its start time to
+``sessions.jsonl`` in the work folder, and every ray file's modification time is when it was
+saved. A session lasted from its start to the last ray saved before the next session's start (a
+run stopped from outside leaves no end of its own); the table's metadata gives each session's
+time and rays and their sum, ``wall_seconds`` (rays saved before the first recorded session, by
+older code, are counted as ``rays_untimed``).
 """
 from __future__ import annotations
 
@@ -226,10 +233,14 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
     work.mkdir(parents=True, exist_ok=True)
     (work / "config.json").write_text(json.dumps(cfg, indent=1) + "\n", encoding="utf-8")
     ab, nu, th, ps, s = axes.a_over_b(), axes.nu(), axes.theta(), axes.psi(), axes.s()
+    start = time.time()
     reused = sum(reuse_rays(folder, axes, cfg, work) for folder in reuse)
     all_rays = rays(axes)
     todo = [r for r in all_rays if not _ray_file(work, r).is_file()]
-    t0 = time.perf_counter()
+    if todo or reused:
+        with (work / SESSIONS).open("a", encoding="utf-8") as f:
+            f.write(json.dumps({"start": start, "rays_reused": reused,
+                                "rays_missing": len(todo)}) + "\n")
     if todo:
         with executor(scheduler, workers) as ex:
             futures = {ex.submit(solve_ray, float(ab[r[0]]), float(nu[r[1]]), float(th[r[2]]),
@@ -248,12 +259,34 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
             values[ia, inu, it, :] = v
         else:
             values[ia, inu, it, ip] = v
-    seconds = time.perf_counter() - t0
     meta = {"command": command, "config": cfg, "config_digest": digest(cfg),
-            "rays": len(all_rays), "wall_seconds_last_session": round(seconds, 1),
-            "rays_reused_last_session": reused,
+            "rays": len(all_rays), **wall_time(work, all_rays),
             "built": time.strftime("%Y-%m-%d")}
     return data.write(values, axes, meta, out)
+
+
+def wall_time(work: Path, all_rays: Sequence[tuple[int, int, int, int]]) -> dict[str, Any]:
+    """The build's wall time over its sessions (module docstring): ``wall_seconds``, ``sessions``
+    (start in UTC, seconds, rays solved and reused) and ``rays_untimed``; a session that saved
+    no ray counts 0 s."""
+    path = work / SESSIONS
+    records = sorted((json.loads(line) for line in
+                      path.read_text(encoding="utf-8").splitlines() if line.strip()),
+                     key=lambda x: x["start"]) if path.is_file() else []
+    saved = np.sort([_ray_file(work, r).stat().st_mtime for r in all_rays])
+    sessions = []
+    for i, rec in enumerate(records):
+        stop = records[i + 1]["start"] if i + 1 < len(records) else math.inf
+        mine = saved[(saved >= rec["start"]) & (saved < stop)]
+        end = float(mine[-1]) if mine.size else rec["start"]
+        sessions.append({"start": time.strftime("%Y-%m-%d %H:%M:%S UTC",
+                                                time.gmtime(rec["start"])),
+                         "seconds": round(end - rec["start"], 1),
+                         "rays_solved": int(mine.size) - rec["rays_reused"],
+                         "rays_reused": rec["rays_reused"]})
+    untimed = int(np.count_nonzero(saved < records[0]["start"])) if records else int(saved.size)
+    return {"wall_seconds": round(sum(x["seconds"] for x in sessions), 1),
+            "sessions": sessions, "rays_untimed": untimed}
 
 
 def _ray_keys(cfg: dict[str, Any], axes: Axes) -> dict[tuple, tuple[int, int, int, int]]:
@@ -301,6 +334,10 @@ def reuse_rays(source: Path, axes: Axes, cfg: dict[str, Any], work: Path) -> int
             _save_ray(_ray_file(work, target), values)
             copied += 1
     return copied
+
+
+#: Start times of the build's sessions, one JSON object per line (module docstring).
+SESSIONS = "sessions.jsonl"
 
 
 def _ray_file(work: Path, r: tuple[int, int, int, int]) -> Path:
