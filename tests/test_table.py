@@ -20,7 +20,7 @@ import pytest
 import contact_core as cc
 from contact_core.table import TableDomainWarning, data
 from contact_core.table.build import (AXES, DEFAULT_FINE_GRID, DEFAULT_GRID, FINE_INSIDE,
-                                      SESSIONS, WIDE_ABOVE, _ray_file, build, config,
+                                      SESSIONS, SLIDING, WIDE_ABOVE, _ray_file, build, config,
                                       node_options, rays, reuse_rays, solve_ray, wall_time)
 from contact_core.table.grid import Axes, creepages_from_reduced, node_reduced_creepage
 
@@ -284,6 +284,18 @@ def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
                       fine.spin_weight(ab))
     s = fine.s()[:, None]
     assert np.abs((loose - ray)[:, :3] * s).max() < 1e-4
+    # --tol-sliding: past the first node whose slip fraction reached SLIDING the ray is solved
+    # at that tolerance, so there it is the 1e-5 ray's within 1e-4, whatever the looser --tol
+    cfg = config(fine, grid, tol=1e-2, tol_sliding=1e-5)
+    mixed = solve_ray(ab, nu, float(fine.theta()[4]), float(fine.psi()[1]),
+                      [float(v) for v in fine.s()], node_options(cfg["exact"], ab),
+                      fine.spin_weight(ab))
+    after = np.flatnonzero(ray[:, 3] >= SLIDING)[0] + 1
+    assert after < len(ray) - 2
+    assert np.abs((mixed - ray)[after:, :3] * s[after:]).max() < 1e-4
+    assert reuse_rays(tmp_path / "coarse", fine, cfg, tmp_path / "w6") == 0
+    with pytest.raises(ValueError, match="sliding_from"):
+        node_options({**cfg["exact"], "sliding_from": 0.5}, ab)
 
 
 def test_the_wide_setting_takes_twice_the_elements_along_x_above_its_bound():

@@ -1,7 +1,8 @@
 """Building the table: independent exact solves on Dask, resumable, reproducible.
 
 ``python -m contact_core.table build [--axes full|small] [--grid M] [--fine-grid M2]
-[--fine-below A] [--fine-above A] [--wide-above A] [--tol T] [--ghost-below 0|1]
+[--fine-below A] [--fine-above A] [--wide-above A] [--tol T] [--tol-sliding T]
+[--ghost-below 0|1]
 [--scheduler ADDRESS] [--workers N] [--work DIR] [--reuse DIR ...] [--out DIR]``
 
 One task per ray: a node (a/b, ν, θ, ψ) of the table and all its magnitudes s, solved in order
@@ -137,6 +138,18 @@ WIDE_ABOVE: float | None = 4.0
 # 0.38 and 0.007, 0.019, 0.055; 48×48 at a/b = 1 0.57, 0.51, 0.42 and 0.003, 0.011, 0.014. The
 # shipped design from scratch (about 14 h at 1e-5) would take about 7.8 h at 3e-4, 7.0 h at 5e-4
 # and 6.0 h at 1e-3.
+#: ``--tol-sliding``: the tolerance once the ray's previous node slides on at least this fraction
+#: of the contact area. Measured 2026-11-25 on the first 941 rays of a build at ``--tol 5e-4``
+#: (the ghost row, 80×80) against the shipped table (1e-5): the largest node change s·g is
+#: 0.006 % of μN in partial slip and 0.058 % at full sliding with a little spin (slip fraction
+#: 1, θ near π/2, the nodes the hard region of ``check`` reads), p99 0.038 %. On 4-6 rays per
+#: row kind (one process beside the build; time relative to 1e-5 and largest change in % of μN;
+#: 5e-4, then 5e-4 with 1e-4 from here on, then 1e-3 with 1e-4): 80×80 at a/b = 0.178 0.54 and
+#: 0.018, 0.57 and 0.003, 0.52 and 0.006; at a/b = 0.562 0.52 and 0.008, 0.56 and 0.006, 0.51
+#: and 0.007; 48×48 at a/b = 1 0.54 and 0.006, 0.57 and 0.006, 0.52 and 0.025; 96×48 at a/b =
+#: 10 0.48 and 0.020, 0.52 and 0.015, 0.46 and 0.027. Full sliding is where a loose tolerance
+#: stops early (the slip direction converges slowly) and where its nodes cost least.
+SLIDING = 0.9
 # The canonical problem every node is solved in (similarity: any values would do): c = √(ab),
 # G, μ, and N = G c² so that G c²/(μN) = 1 and the reduced creepages are C·(ξ, η, c φ).
 _C, _G, _MU = 1e-2, 8e10, 1.0
@@ -145,22 +158,29 @@ _C, _G, _MU = 1e-2, 8e10, 1.0
 def solve_ray(a_over_b: float, nu: float, theta: float, psi: float, s_nodes: list[float],
               options: dict[str, Any], spin_weight: float) -> np.ndarray:
     """The node values (n_s, 4) of one ray (runs in a worker; see :mod:`.data`); ``options``: the
-    exact solver's (:func:`node_options`), ``spin_weight``: w(a/b) of the axes (:mod:`.grid`)."""
+    exact solver's (:func:`node_options`; ``tol_sliding``: its tolerance at the nodes after one
+    whose slip fraction is at least ``SLIDING``), ``spin_weight``: w(a/b) of the axes
+    (:mod:`.grid`)."""
     from ..api import make_solver
     from ..coefficients import creep_coefficients
     b = _C / math.sqrt(a_over_b)
     a = a_over_b * b
     N = _G * _C * _C / _MU
     c11, c22, c23, _ = creep_coefficients(a_over_b, nu)
+    options = dict(options)
+    tol_sliding = options.pop("tol_sliding", None)
     solver = make_solver("exact", **options)
+    sliding = solver if tol_sliding is None else make_solver("exact", **{**options,
+                                                                        "tol": tol_sliding})
     out = np.empty((len(s_nodes), data.N_VALUES))
     prev = None
     for k, s in enumerate(s_nodes):
         u = node_reduced_creepage(theta, psi, s, spin_weight)
         xi, eta, phi = creepages_from_reduced(u, c11, c22, c23, _C, 1.0)
+        step = sliding.step if prev is not None and prev.slip_fraction >= SLIDING else solver.step
         with warnings.catch_warnings():
             warnings.simplefilter("error")          # a non-converged solve fails the build
-            r = solver.step(xi, eta, phi, N, _MU, a, b, _G, nu, warm_start=prev)
+            r = step(xi, eta, phi, N, _MU, a, b, _G, nu, warm_start=prev)
         prev = r
         r_node = node_magnitude(s)
         sk = s if 0.0 < s < 1.0 else r_node / (1.0 + r_node)
@@ -183,16 +203,20 @@ def rays(axes: Axes) -> list[tuple[int, int, int, int]]:
 
 def config(axes: Axes, grid: int, fine_grid: int | None = None,
            coarse: tuple[float, float | None] = FINE_INSIDE,
-           wide_above: float | None = None, tol: float | None = None) -> dict[str, Any]:
+           wide_above: float | None = None, tol: float | None = None,
+           tol_sliding: float | None = None) -> dict[str, Any]:
     """The build's configuration (recorded in the table): ``coarse``, the a/b range of the
     ``grid`` nodes, outside it ``fine_grid`` (``FINE_INSIDE``); inside it above ``wide_above``
     2·grid × grid (``WIDE_ABOVE``; None: none); ``tol``: the exact solver's tolerance (None: its
     default, recorded as absent, as in the tables built before the option; measured: the comment
-    above ``_C``)."""
+    above ``_C``), ``tol_sliding``: the tolerance after a node whose slip fraction reached
+    ``SLIDING`` (None: ``tol`` everywhere, recorded as absent)."""
     fine = grid if fine_grid is None else fine_grid
     wide = {} if wide_above is None else {"wide_above": wide_above, "wide_mx": 2 * grid,
                                            "wide_my": grid}
     tolerance = {} if tol is None else {"tol": tol}
+    if tol_sliding is not None:
+        tolerance.update(tol_sliding=tol_sliding, sliding_from=SLIDING)
     return {"axes": axes.to_record(),
             "exact": {"mx": grid, "my": grid, "extrapolate": True,
                       "coarse_a_over_b": list(coarse), "fine_mx": fine, "fine_my": fine, **wide,
@@ -209,6 +233,11 @@ def node_options(exact: dict[str, Any], a_over_b: float) -> dict[str, Any]:
     out = {"mx": exact[kind + "mx"], "my": exact[kind + "my"], "extrapolate": exact["extrapolate"]}
     if "tol" in exact:
         out["tol"] = exact["tol"]
+    if "tol_sliding" in exact:
+        if exact["sliding_from"] != SLIDING:
+            raise ValueError(f"sliding_from={exact['sliding_from']!r}: this code switches the "
+                             f"tolerance at a slip fraction of {SLIDING}")
+        out["tol_sliding"] = exact["tol_sliding"]
     return out
 
 
@@ -220,7 +249,8 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
           workers: int | None = None, progress: bool = True, command: str = "",
           fine_grid: int | None = None,
           coarse: tuple[float, float | None] = FINE_INSIDE, reuse: Sequence[Path] = (),
-          wide_above: float | None = None, tol: float | None = None) -> Path:
+          wide_above: float | None = None, tol: float | None = None,
+          tol_sliding: float | None = None) -> Path:
     """Solve the missing rays on Dask, then assemble and write the table (module docstring);
     ``reuse``: work folders of other builds (:func:`reuse_rays`)."""
     from concurrent.futures import as_completed
@@ -229,7 +259,7 @@ def build(axes: Axes, grid: int, work: Path, out: Path, scheduler: str | None = 
 
     from ..sweep import executor
 
-    cfg = config(axes, grid, fine_grid, coarse, wide_above, tol)
+    cfg = config(axes, grid, fine_grid, coarse, wide_above, tol, tol_sliding)
     work.mkdir(parents=True, exist_ok=True)
     (work / "config.json").write_text(json.dumps(cfg, indent=1) + "\n", encoding="utf-8")
     ab, nu, th, ps, s = axes.a_over_b(), axes.nu(), axes.theta(), axes.psi(), axes.s()
@@ -401,6 +431,9 @@ def main(argv: list[str] | None = None) -> int:
                    help="the exact solver's tolerance at the nodes (default: the exact method's, "
                    f"{Exact.default_options['tol']:g}, which built the shipped table; 1e-4 takes "
                    "about two thirds of the time, see this module)")
+    b.add_argument("--tol-sliding", type=_tolerance, default=None,
+                   help=f"the tolerance at the nodes after one whose slip fraction reached "
+                   f"{SLIDING} (default: --tol everywhere; see this module)")
     b.add_argument("--ghost-below", type=int, choices=(0, 1), default=None,
                    help="a ghost row of a/b below the table's range, read by the first "
                    "interval's cubic (grid.Axes; default: the axes')")
@@ -420,7 +453,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.ghost_below is not None:
         axes = replace(axes, ghost_below=a.ghost_below)
     coarse = (0.0 if a.fine_below is None else a.fine_below, a.fine_above)
-    cfg = config(axes, a.grid, a.fine_grid, coarse, a.wide_above, a.tol)
+    cfg = config(axes, a.grid, a.fine_grid, coarse, a.wide_above, a.tol, a.tol_sliding)
     work = Path(a.work) if a.work else Path("build") / "table_work" / digest(cfg)
     out = Path(a.out) if a.out else data.data_dir()
     # the command that reproduces the table: reused rays are the same values, solved earlier
@@ -435,6 +468,6 @@ def main(argv: list[str] | None = None) -> int:
     path = build(axes, a.grid, work, out, a.scheduler, a.workers, not a.no_progress,
                  command="python -m contact_core.table " + " ".join(kept), fine_grid=a.fine_grid,
                  coarse=coarse, reuse=[Path(d) for d in a.reuse], wide_above=a.wide_above,
-                 tol=a.tol)
+                 tol=a.tol, tol_sliding=a.tol_sliding)
     print(f"wrote {path} (sha256 {data.sha256(path)})")
     return 0
