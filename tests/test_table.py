@@ -290,7 +290,7 @@ def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
     mixed = solve_ray(ab, nu, float(fine.theta()[4]), float(fine.psi()[1]),
                       [float(v) for v in fine.s()], node_options(cfg["exact"], ab),
                       fine.spin_weight(ab))
-    after = np.flatnonzero(ray[:, 3] >= SLIDING)[0] + 1
+    after = np.flatnonzero(mixed[:, 3] >= SLIDING)[0] + 1
     assert after < len(ray) - 2
     assert np.abs((mixed - ray)[after:, :3] * s[after:]).max() < 1e-4
     assert reuse_rays(tmp_path / "coarse", fine, cfg, tmp_path / "w6") == 0
