@@ -145,13 +145,14 @@ WIDE_ABOVE: float | None = 4.0
 #: 1, θ near π/2, the nodes the hard region of ``check`` reads), p99 0.038 %; on 868 of those
 #: rays solved again with ``--tol-sliding 1e-4`` max 0.011 % (a node just past slip fraction
 #: 0.87, still at 5e-4), p99 0.007 %, median 0.002 % (5e-4 alone: 0.058, 0.039, 0.008 %), at
-#: no lower speed on this row (44 rays a minute with other work beside it, 48 without). On 4-6 rays per
-#: row kind (one process beside the build; time relative to 1e-5 and largest change in % of μN;
-#: 5e-4, then 5e-4 with 1e-4 from here on, then 1e-3 with 1e-4): 80×80 at a/b = 0.178 0.54 and
-#: 0.018, 0.57 and 0.003, 0.52 and 0.006; at a/b = 0.562 0.52 and 0.008, 0.56 and 0.006, 0.51
-#: and 0.007; 48×48 at a/b = 1 0.54 and 0.006, 0.57 and 0.006, 0.52 and 0.025; 96×48 at a/b =
-#: 10 0.48 and 0.020, 0.52 and 0.015, 0.46 and 0.027. Full sliding is where a loose tolerance
-#: stops early (the slip direction converges slowly) and where its nodes cost least.
+#: no lower speed on this row (44 rays a minute with other work beside it, 48 without). On 4-6
+#: rays per row kind (one process beside the build; time relative to 1e-5 and largest change in
+#: % of μN; 5e-4, then 5e-4 with 1e-4 from here on, then 1e-3 with 1e-4): 80×80 at a/b =
+#: 0.178 0.54 and 0.018, 0.57 and 0.003, 0.52 and 0.006; at a/b = 0.562 0.52 and 0.008, 0.56
+#: and 0.006, 0.51 and 0.007; 48×48 at a/b = 1 0.54 and 0.006, 0.57 and 0.006, 0.52 and 0.025;
+#: 96×48 at a/b = 10 0.48 and 0.020, 0.52 and 0.015, 0.46 and 0.027. Full sliding is where a
+#: loose tolerance stops early (the slip direction converges slowly) and where its nodes cost
+#: least.
 SLIDING = 0.9
 # The canonical problem every node is solved in (similarity: any values would do): c = √(ab),
 # G, μ, and N = G c² so that G c²/(μN) = 1 and the reduced creepages are C·(ξ, η, c φ).
