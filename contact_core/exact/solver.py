@@ -38,12 +38,13 @@ Rigid slip with spin (option ``spin_shift``). The steady-rolling slip of element
 slip minus the upwind difference (u_i - u_{i+1})/dx of the displacements towards the leading edge
 (Kalker 1990, ch. 5; as in CONTACT). The spin term φx of the lateral rigid slip is sampled at
 x_i + θ dx, θ = ``spin_shift`` elements downstream of the element centre (towards the leading
-edge). The default θ = 1/6 is CONTACT's (its input FACPHI, the optional fourth value of the
-rolling line, default 1/6; E. A. H. Vollebregt, CONTACT, github.com/eve70a/CONTACT d431cdb,
-``m_sdis.f90``): with it this solver is CONTACT's discretisation. Measured 2026-11-25 against
-CONTACT built from that source (exact steady rolling, M=0, B=0, same grids over 1.1× the ellipse)
-on the benchmark's 240 pure-ξ, spin and combined cases at 12×12, 20×20 and 32×32: the largest
-difference is 2e-7 μN in Fx, Fy and 2e-7 μN·c in Mz (tests: ``tests/data/contact_exact_spin.csv``).
+edge). The default θ = 1/6 is CONTACT's (E. A. H. Vollebregt, CONTACT, github.com/eve70a/CONTACT
+d431cdb: ``kin%facphi`` in ``m_sdis.f90``, read as an optional fourth value after CHI, DQ, VELOC,
+default 1/6, not in its user guide): with it this solver is CONTACT's discretisation. Measured
+2026-11-25 against CONTACT built from that source (exact steady rolling, M=0, B=0, same grids over
+1.1× the ellipse) on the benchmark's 240 pure-ξ, spin and combined cases at 12×12, 20×20 and
+32×32: the largest difference is 2e-7 μN in Fx, Fy and 2e-7 μN·c in Mz at tol=1e-7, 4e-7 μN at
+the default tol (tests: ``tests/data/contact_exact_spin.csv``).
 No θ is best for every output. Against the grid-converged solution on the benchmark's 157 spin
 and combined cases with a converged reference (|F| error p95 / max in % of μN; Mz in % of μN·c):
 
