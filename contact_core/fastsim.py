@@ -183,6 +183,15 @@ above), |F| error p95 / max in % of μN; measured 2026-11-24 with the spin sampl
     elliptic    midpoint    4.7 / 6.0    4.9 / 5.9    4.4 / 8.5              8.4 / 12.8
     ==========  ==========  ===========  ===========  =====================  =====================
 
+With the elliptic bound "midpoint" is ahead on this benchmark; with the default flexibility it is
+ahead of CONTACT's FASTSIM (below) on all twelve of the benchmark's 20×20 figures with that bound
+(pure ξ, η, (ξ, η), φ, with spin, Mz: 4.74/6.02, 3.84/5.65, 4.95/5.98, 4.40/8.46, 5.12/7.36,
+3.69/6.20). It is not the elliptic default because on the held-out states of
+``python -m contact_core.table check`` (a/b 0.1-10, every direction) its |F| is behind "kalker" at
+10×10, 20×20 and 40×40: at 20×20 random set p95/max 7.33/11.66 against 6.03/11.71, hard region
+8.26/11.51 against 5.67/9.03 (ahead on the spin band, 9.39/12.30 against 11.18/12.12, and in Mz p95;
+measured 2026-11-25). At 48×44 it is behind CONTACT on pure ξ (4.80/6.02 against 4.36/4.63).
+
 For pure spin the limit is simplified theory itself, not the grid: converged (100×100,
 "midpoint") it is 7.8 / 9.3 off with the parabolic bound and 5.3 / 8.3 with the elliptic one on
 the benchmark's pure-spin cases (the 77 of 80 whose reference converged: the exact solver fitted
