@@ -28,9 +28,10 @@ linear theory (Kalker 1979, eq 17) defines one flexibility per creepage,
 
     L1 = 8a / (3 G C11),   L2 = 8a / (3 G C22),   L3 = π a √(a/b) / (4 G C23),
 
-(check: p_x = -ξ (a(y) - x)/L1 gives Fx = -(8/3) a² b ξ / L1 = -G ab C11 ξ; p_y = -φ(a(y)² - x²)/(2 L3)
-gives Fy = -(π/4) a³ b φ / L3 = -G (ab)^{3/2} C23 φ.) These are the flexibilities CONTACT uses in
-its FASTSIM (its ``tractcurv`` example lists FLX1..3, which these formulas reproduce to 0.1 %).
+(check: p_x = -ξ (a(y) - x)/L1 gives Fx = -(8/3) a² b ξ / L1 = -G ab C11 ξ;
+p_y = -φ(a(y)² - x²)/(2 L3) gives Fy = -(π/4) a³ b φ / L3 = -G (ab)^{3/2} C23 φ.) These are the
+flexibilities CONTACT uses in its FASTSIM (its ``tractcurv`` example lists FLX1..3, which these
+formulas reproduce to 0.1 %).
 
 Option ``flexibility``:
 
@@ -142,28 +143,28 @@ are sums F = Σ p ΔA with ΔA = Δx_j · 2b/ny, the spin moment is Mz = Σ (x p
     force converges as O(n⁻²) to linear theory (exactly 1/(2n²) for pure ξ; tests check the order).
 ``"kalker"`` (default) — Kalker's original FASTSIM discretisation as implemented in CONTACT
     (Kalker 1982, Vehicle System Dynamics 11, 1-13; CONTACT, E. A. H. Vollebregt & J. J. Kalker,
-    open source): full steps Δx_j from the leading edge, tractions at the element centres. The first step
-    overshoots the distance to the first centre by Δx_j/2, i.e. the march behaves as if the
+    open source): full steps Δx_j from the leading edge, tractions at the element centres. The first
+    step overshoots the distance to the first centre by Δx_j/2, i.e. the march behaves as if the
     leading edge were half an element ahead of a_j; in stick every traction is too large by that
     much, so for pure ξ or η without saturation the force is (1 + 1/nx) times the converged value
-    (plus the O(n⁻²) strip rule in y), first order. CONTACT samples the spin term φx of each step
-    at x_i + Δx_j/6 (its ``facphi`` = 1/6 in the rigid slip of ``m_sdis.f90``, which its source
-    calls an additional term without a reason), and so does this scheme. Why 1/6: sampled at
-    x_i + θ Δx_j, the pure-spin stick force exceeds the converged one by about 6θ/nx (summing the
-    march against Kalker 1979 eq 37; θ = ½ gives 3/nx), so θ = 1/6 gives every creepage the same
-    first-order excess 1/nx, the excess that makes up for simplified theory's shortfall in
-    partial slip (below; the table there gives the errors before and after). θ = 0 (the spin
-    force second order in stick) is better with the parabolic bound and worse with the elliptic
-    one (benchmark, converged references, 20×20, |F| p95 / max, pure φ and with spin: parabolic
-    4.7 / 7.0 and 6.5 / 10.2 against 6.3 / 7.4 and 7.2 / 10.9 at θ = 1/6, Mz 6.6 / 9.9 against
-    7.4 / 10.8; elliptic 7.7 / 10.8 and 9.4 / 11.2 against 6.0 / 9.3 and 8.7 / 11.9), but on
-    the held-out spin band of ``python -m contact_core.table check`` (300 states, a/b 1-10,
-    within 30° of pure spin; vector error) it is worse with both bounds (parabolic, |F| p95 /
-    max: 10×10 12.9 / 22.3 against 6.7 / 14.7, 20×20 6.0 / 11.6 against 6.0 / 8.1): not adopted.
-    The layout was taken from CONTACT; Kalker's 1982 listing itself was not available to check it
-    against. With it this module reproduces CONTACT's ``tractcurv`` FASTSIM column (parabolic
-    bound, 48×44 rectangular grid) within 1 % at every published point at the comparable
-    nx = 44, ny = 40 (-0.33 % .. +0.67 %, see the tests).
+    (plus the O(n⁻²) strip rule in y), first order. CONTACT samples the spin term φx of each step at
+    x_i + Δx_j/6 (its ``facphi`` = 1/6 in the rigid slip of ``m_sdis.f90``, which its source calls
+    an additional term without a reason), and so does this scheme. Why 1/6: sampled at x_i + θ Δx_j,
+    the pure-spin stick force exceeds the converged one by about 6θ/nx (summing the march against
+    Kalker 1979 eq 37; θ = ½ gives 3/nx), so θ = 1/6 gives every creepage the same first-order
+    excess 1/nx, the excess that makes up for simplified theory's shortfall in partial slip (below;
+    the table there gives the errors before and after). θ = 0 (the spin force second order in stick)
+    is better with the parabolic bound and worse with the elliptic one (benchmark, converged
+    references, 20×20, |F| p95 / max, pure φ and with spin: parabolic 4.7 / 7.0 and 6.5 / 10.2
+    against 6.3 / 7.4 and 7.2 / 10.9 at θ = 1/6, Mz 6.6 / 9.9 against 7.4 / 10.8; elliptic
+    7.7 / 10.8 and 9.4 / 11.2 against 6.0 / 9.3 and 8.7 / 11.9), but on the held-out spin band of
+    ``python -m contact_core.table check`` (300 states, a/b 1-10, within 30° of pure spin; vector
+    error) it is worse with both bounds (parabolic, |F| p95 / max: 10×10 12.9 / 22.3 against
+    6.7 / 14.7, 20×20 6.0 / 11.6 against 6.0 / 8.1): not adopted. The layout was taken from CONTACT;
+    Kalker's 1982 listing itself was not available to check it against. With it this module
+    reproduces CONTACT's ``tractcurv`` FASTSIM column (parabolic bound, 48×44 rectangular grid)
+    within 1 % at every published point at the comparable nx = 44, ny = 40 (-0.33 % .. +0.67 %, see
+    the tests).
 
 Both converge to the same continuum FASTSIM solution (tests: on CONTACT's tractcurv example the
 Richardson-extrapolated "kalker" curve equals the 400×400 "midpoint" curve to 0.02 %).
@@ -230,9 +231,11 @@ of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" withi
 "midpoint" remains the scheme whose FASTSIM solution converges fastest with the grid (O(n⁻²)).
 
 The discrete bound is scaled by a constant (depending on nx, ny and the bound only) so
-that Σ p_n ΔA = N exactly on the traction points; full sliding then gives |F| = μN at any grid,
-like CONTACT, where the discrete pressures carry the load exactly. The correction is small (0.15 % at
-20×20 parabolic, 0.5 % elliptic).
+that Σ p_n ΔA = N exactly on the traction points; full sliding then gives |F| = μN at any grid.
+The correction is small (0.15 % at 20×20 parabolic, 0.5 % elliptic). CONTACT's FASTSIM takes the
+pressure at its element centres as it is (CONTACT ``m_sdis.f90``, bounds B=2, 3): on the
+benchmark's pure ξ and η states its full-sliding force reaches 1.0023 μN (elliptic) and 1.0004 μN
+(parabolic) at 20×20, 1.0008 and 1.0001 μN at 48×44 (measured 2026-11-25).
 
 Known properties of simplified theory (not errors of this code): the spin moment follows from
 the same flexibility, so FASTSIM's Mz differs from linear theory's C33 (for pure spin with
@@ -489,8 +492,8 @@ class FastsimFields:
     px, py : ndarray
         Tangential tractions of the rail on the wheel, Pa (same sign convention as the forces).
     bound : ndarray
-        Traction bound μ p_n at the traction points, Pa (incl. the discrete load normalisation); with
-        the ``saturation`` effect off it is reported but not applied.
+        Traction bound μ p_n at the traction points, Pa (incl. the discrete load
+        normalisation); with the ``saturation`` effect off it is reported but not applied.
     slip : ndarray of bool
         True where the element slips (|p| = bound), False where it sticks.
     area : ndarray
