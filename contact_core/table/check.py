@@ -127,12 +127,50 @@ def references(cases, scheduler=None, workers=None, progress=True) -> np.ndarray
     return out
 
 
+def held_out_sets(n: int = 2000, seed: int = 20261123, hard: int = 2000,
+                  spin: int = 300) -> list[tuple[str, str, list[dict[str, float]], int]]:
+    """The held-out sets (module docstring) as (name, title, cases, seed): ``n`` random cases
+    (``seed``), then the hard region (``hard`` cases, seed + 1) and the spin band (``spin``,
+    seed + 2), each left out when it has no cases."""
+    out = [("random", "The random set", random_cases(n, seed, AXES["full"]), seed)]
+    for k, (name, title, make, m) in enumerate((("hard", "The hard region", hard_cases, hard),
+                                                ("spin", "The spin band", spin_cases, spin)), 1):
+        if m > 0:
+            out.append((name, title, make(m, seed + k, AXES["full"]), seed + k))
+    return out
+
+
+def kept_references(name: str, cases, seed: int, scheduler: str | None = None,
+                    workers: int | None = None, progress: bool = True,
+                    folder: str | Path = "build") -> tuple[np.ndarray, float]:
+    """The references of one held-out set (:func:`held_out_sets`) and the seconds they took:
+    computed once (:func:`references`) and kept in ``folder`` as numpy data (no pickle); they
+    depend on the cases only."""
+    stem = f"{len(cases)}_{seed}" if name == "random" else f"{name}_{len(cases)}_{seed}"
+    keep = Path(folder) / f"table_check_reference_{stem}.npz"
+    if keep.is_file():
+        with np.load(keep, allow_pickle=False) as z:
+            return z["ref"], float(z["seconds"])
+    t0 = time.perf_counter()
+    ref = references(cases, scheduler, workers, progress)
+    seconds = time.perf_counter() - t0
+    keep.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(keep, ref=ref, seconds=seconds)
+    return ref, seconds
+
+
 def errors(cases, ref: np.ndarray, method: str, **options) -> tuple[np.ndarray, np.ndarray]:
     """|F| errors in % of μN and Mz errors in % of μN·c of ``method`` on ``cases`` against
     ``ref`` ((Fx, Fy, Mz) per case, :func:`references`)."""
     import contact_core as cc
     res = np.array([[r.Fx, r.Fy, r.Mz] for r in (cc.solve(method, **kw, **options)
                                                   for kw in cases)])
+    return result_errors(cases, ref, res)
+
+
+def result_errors(cases, ref: np.ndarray, res: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The errors of :func:`errors` of results ``res`` ((Fx, Fy, Mz) per case, N and N·m): the
+    vector error of (Fx, Fy) in % of μN, Mz in % of μN·c."""
     mun = np.array([kw["mu"] * kw["N"] for kw in cases])
     c = np.array([math.sqrt(kw["a"] * kw["b"]) for kw in cases])
     eF = np.hypot(res[:, 0] - ref[:, 0], res[:, 1] - ref[:, 1]) / mun * 100
@@ -158,28 +196,11 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--references-only", action="store_true",
                    help="compute and keep the references (build/), no table needed yet")
     a = p.parse_args(argv)
-    def kept_references(cases, name):
-        # the references depend on the cases only: kept between runs (data only, numpy)
-        keep = Path("build") / f"table_check_reference_{name}.npz"
-        if keep.is_file():
-            with np.load(keep, allow_pickle=False) as z:
-                return z["ref"], float(z["seconds"])
-        t0 = time.perf_counter()
-        ref = references(cases, a.scheduler, a.workers, not a.no_progress)
-        seconds = time.perf_counter() - t0
-        keep.parent.mkdir(parents=True, exist_ok=True)
-        np.savez(keep, ref=ref, seconds=seconds)
-        return ref, seconds
-
-    cases = random_cases(a.cases, a.seed, AXES["full"])
-    ref, t_ref = kept_references(cases, f"{a.cases}_{a.seed}")
-    extra = []              # the further sets (module docstring): name, title, cases, seed
-    for k, (name, title, make, n) in enumerate((("hard", "The hard region", hard_cases, a.hard),
-                                                ("spin", "The spin band", spin_cases, a.spin)), 1):
-        if n > 0:
-            extra.append((name, title, make(n, a.seed + k, AXES["full"]), a.seed + k))
-    extra_refs = [kept_references(cases_k, f"{name}_{len(cases_k)}_{seed}")
-                  for name, _, cases_k, seed in extra]
+    sets = held_out_sets(a.cases, a.seed, a.hard, a.spin)
+    kept = [kept_references(name, cases_k, seed, a.scheduler, a.workers, not a.no_progress)
+            for name, _, cases_k, seed in sets]
+    (_, _, cases, _), (ref, t_ref) = sets[0], kept[0]
+    extra, extra_refs = sets[1:], kept[1:]
     if a.references_only:
         return 0
     t = data.load()

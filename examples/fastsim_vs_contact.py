@@ -1,0 +1,157 @@
+"""FASTSIM against CONTACT's FASTSIM, both against the converged exact theory (not a test).
+
+CONTACT's results are data: ``tests/data/contact_fastsim_sets.csv`` (the program CONTACT's
+default FASTSIM, M=3, with the parabolic and the elliptic traction bound on 20×20 and 48×44
+grids; provenance in the file's header). They cover the benchmark's 400 cases
+(``contact_core.bench``, form "full") and the three held-out sets of
+``python -m contact_core.table check`` (2,000 random states, 2,000 in the hard region near full
+sliding, 300 in the spin band). This script solves the same states with ``contact_core``'s
+FASTSIM on the same number of elements (``nx`` × ``ny`` = CONTACT's MX × MY; strips here, a
+rectangle over the ellipse's bounding box there) and writes p95 / max of both errors per series,
+bound and grid to ``docs/fastsim_vs_contact.md``.
+
+Errors, in % of μN (forces) and of μN·c (Mz, c = √(ab)), against the references of the two
+reports: on the benchmark the error of |F| (``contact_core.bench.report.errors``; its reference
+kept in ``build/bench_reference`` by ``python -m contact_core.bench --full``), on the held-out
+sets the vector error of (Fx, Fy) (``contact_core.table.check.errors``; references kept in
+``build/`` by ``python -m contact_core.table check``). Missing references are computed (hours on
+two cores; ``--workers``, ``--scheduler`` as in those commands).
+
+    python examples/fastsim_vs_contact.py [--options '{"scheme": "midpoint"}']
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+import contact_core as cc
+from contact_core.bench.cases import make_cases
+from contact_core.bench.reference import REFERENCE_GRIDS, compute_references
+from contact_core.bench.report import errors as bench_errors
+from contact_core.table.check import (errors as check_errors, held_out_sets, kept_references,
+                                      result_errors)
+
+DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "contact_fastsim_sets.csv"
+INPUTS = ("a", "b", "G", "nu", "mu", "N", "xi", "eta", "phi")
+GRIDS = ((20, 20), (48, 44))
+BOUNDS = ("parabolic", "elliptic")
+#: the benchmark's series (its case kinds), in the order of the report
+KINDS = (("longitudinal", "pure ξ"), ("lateral", "pure η"), ("creepage", "ξ and η"),
+         ("spin", "pure φ"), ("combined", "spin with creepage"))
+
+
+def read_contact() -> dict[str, tuple[list[dict[str, float]], dict[str, np.ndarray]]]:
+    """Per set: the inputs of each case and CONTACT's (Fx, Fy, Mz) per "<bound>_<mx>x<my>"."""
+    with DATA.open(encoding="utf-8") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    out: dict[str, tuple[list[dict[str, float]], dict[str, np.ndarray]]] = {}
+    for name in dict.fromkeys(r["set"] for r in rows):
+        sub = sorted((r for r in rows if r["set"] == name), key=lambda r: int(r["id"]))
+        inputs = [{k: float(r[k]) for k in INPUTS} for r in sub]
+        res = {f"{b}_{mx}x{my}": np.array([[float(r[f"{b}_{mx}x{my}_{q}"]) for q in
+                                            ("Fx", "Fy", "Mz")] for r in sub])
+               for mx, my in GRIDS for b in BOUNDS}
+        out[name] = (inputs, res)
+    return out
+
+
+def same_states(name: str, stored: list[dict[str, float]], cases: list[dict[str, float]]) -> None:
+    """CONTACT's results are only comparable on the states they were computed for."""
+    if len(stored) != len(cases) or any(
+            not math.isclose(s[k], c[k], rel_tol=1e-12, abs_tol=1e-300)
+            for s, c in zip(stored, cases) for k in INPUTS):
+        raise SystemExit(f"set {name!r}: the states in {DATA.name} differ from the ones this "
+                         "package generates; CONTACT must be run again on them")
+
+
+def cell(e: np.ndarray) -> tuple[float, float]:
+    e = e[np.isfinite(e)]
+    return float(np.percentile(e, 95)), float(e.max())
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--options", default="{}", help="FASTSIM options as JSON (default: none, the "
+                   "method's defaults)")
+    p.add_argument("--workers", type=int, default=None)
+    p.add_argument("--scheduler", default=None)
+    p.add_argument("--out", default="docs/fastsim_vs_contact.md")
+    a = p.parse_args()
+    options = json.loads(a.options)
+    contact = read_contact()
+
+    bench = make_cases("full")
+    same_states("bench", contact["bench"][0], [c.solve_kwargs() for c in bench])
+    refs = compute_references(bench, REFERENCE_GRIDS["full"], jobs=a.workers or 2,
+                              scheduler=a.scheduler, cache="build/bench_reference")
+    kind = np.array([c.kind for c in bench])
+    held = held_out_sets()
+    for name, _, cases, _ in held:
+        same_states(name, contact[name][0], cases)
+    held_refs = [kept_references(name, cases, seed, a.scheduler, a.workers)[0]
+                 for name, _, cases, seed in held]
+
+    # per (mx, my, bound): {series: (ours (p95, max), CONTACT's (p95, max))}
+    per_grid: dict[tuple[int, int, str], dict[str, tuple]] = {}
+    for mx, my in GRIDS:
+        for bound in BOUNDS:
+            key = f"{bound}_{mx}x{my}"
+            ours = np.array([[r.Fx, r.Fy, r.Mz] for r in (
+                cc.solve("fastsim", **c.solve_kwargs(), nx=mx, ny=my, bound=bound, **options)
+                for c in bench)])
+            eo, ec = bench_errors(bench, refs, ours), bench_errors(bench, refs,
+                                                                   contact["bench"][1][key])
+            cells = {f"benchmark, {title}": (cell(100 * eo[0][kind == k]),
+                                             cell(100 * ec[0][kind == k])) for k, title in KINDS}
+            cells["benchmark, Mz (all but pure ξ)"] = (cell(100 * eo[1]), cell(100 * ec[1]))
+            for (name, title, cases, _), ref in zip(held, held_refs):
+                fo, mo = check_errors(cases, ref, "fastsim", nx=mx, ny=my, bound=bound, **options)
+                fc, mc = result_errors(cases, ref, contact[name][1][key])
+                cells[f"{title.lower()}, \\|F\\|"] = (cell(fo), cell(fc))
+                cells[f"{title.lower()}, Mz"] = (cell(mo), cell(mc))
+            per_grid[(mx, my, bound)] = cells
+    series = list(next(iter(per_grid.values())))
+    behind = []
+    lines = ["# FASTSIM against CONTACT's FASTSIM", "",
+             "Generated by `python examples/fastsim_vs_contact.py"
+             + (f" --options '{a.options}'" if options else "") + "` (see its docstring): "
+             "p95 / max error against the converged exact theory, |F| in % of μN, Mz in % of "
+             "μN·c; the benchmark's 400 cases by series and the held-out sets of `python -m "
+             "contact_core.table check`. *ours* = `contact_core`'s FASTSIM"
+             + (f" with {options}" if options else " (default options)") + " on nx × ny strips "
+             "× elements, CONTACT = the program CONTACT's FASTSIM (M=3) on MX × MY over the "
+             "ellipse's bounding box. A figure of ours in bold is behind CONTACT's.", ""]
+    for mx, my in GRIDS:
+        lines += [f"## {mx} × {my}", "",
+                  "| series | parabolic, ours | parabolic, CONTACT | elliptic, ours | "
+                  "elliptic, CONTACT |", "|---|---:|---:|---:|---:|"]
+        for s in series:
+            row = [s]
+            for bound in BOUNDS:
+                o, c = per_grid[(mx, my, bound)][s]
+                marks = []
+                for j, what in enumerate(("p95", "max")):
+                    worse = o[j] > c[j] + 0.005
+                    marks.append(f"**{o[j]:.2f}**" if worse else f"{o[j]:.2f}")
+                    if worse:
+                        behind.append((o[j] - c[j], f"{mx}×{my} {bound}, {s} {what}"))
+                row += [" / ".join(marks), f"{c[0]:.2f} / {c[1]:.2f}"]
+            lines.append("| " + " | ".join(row) + " |")
+        lines.append("")
+    n = 2 * len(series) * len(BOUNDS) * len(GRIDS)
+    lines.append(f"Ours behind CONTACT in {len(behind)} of {n} figures"
+                 + (": " + "; ".join(f"{w} by {d:.2f}" for d, w in sorted(behind, reverse=True))
+                    if behind else "") + ".")
+    text = "\n".join(lines) + "\n"
+    Path(a.out).parent.mkdir(parents=True, exist_ok=True)
+    Path(a.out).write_text(text, encoding="utf-8")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
