@@ -120,10 +120,11 @@ WIDE_ABOVE: float | None = 4.0
 # process). The shipped table has it on 80×80 (``AXES["full"]``; 2,628 rays in 1 h 44 min on two
 # workers): on all of ``check``'s states with the row a/b = 0.316 on 80×80 too, random |F| max
 # 0.98 -> 0.79 %, hard-region p95 0.34 -> 0.33 %, Mz max 0.89 -> 0.91 % (a/b = 0.11).
-# ``--tol``: the exact solver's tolerance at the nodes (``config``). The shipped table was built
-# with the exact method's default, 1e-5. Measured on 40 random rays of each kind (two workers on
+# ``--tol``: the exact solver's tolerance at the nodes (``config``). The table shipped before was
+# built with the exact method's default, 1e-5, the shipped one with ``DEFAULT_TOL`` and
+# ``DEFAULT_TOL_SLIDING`` (below). Measured on 40 random rays of each kind (two workers on
 # this 2-core machine, s per ray, default -> 1e-4): 80×80 2.55 -> 1.84, 48×48 0.53 -> 0.34,
-# 96×48 2.24 -> 1.40, the forces s·g within 3.7e-5 of μN (Mz of μN·c) of the shipped values and
+# 96×48 2.24 -> 1.40, the forces s·g within 3.7e-5 of μN (Mz of μN·c) of the 1e-5 values and
 # the slip fraction within 6.6e-4: a build of the shipped design from scratch takes about 6.0 h
 # instead of 9.0 h (the design before the row a/b = 0.316 on 80×80 and the ghost row; with them
 # about 8.5 h instead of 12.2 h). Rays of different tolerances are not reused for one another.
@@ -140,7 +141,7 @@ WIDE_ABOVE: float | None = 4.0
 # and 6.0 h at 1e-3.
 #: ``--tol-sliding``: the tolerance once the ray's previous node slides on at least this fraction
 #: of the contact area. Measured 2026-11-25 on the first 941 rays of a build at ``--tol 5e-4``
-#: (the ghost row, 80×80) against the shipped table (1e-5): the largest node change s·g is
+#: (the ghost row, 80×80) against the table then shipped (1e-5): the largest node change s·g is
 #: 0.006 % of μN in partial slip and 0.058 % at full sliding with a little spin (slip fraction
 #: 1, θ near π/2, the nodes the hard region of ``check`` reads), p99 0.038 %; on 868 of those
 #: rays solved again with ``--tol-sliding 1e-4`` max 0.011 % (a node just past slip fraction
@@ -154,6 +155,8 @@ WIDE_ABOVE: float | None = 4.0
 #: loose tolerance stops early (the slip direction converges slowly) and where its nodes cost
 #: least.
 SLIDING = 0.9
+#: ``--tol`` and ``--tol-sliding`` by default: the shipped table's (measured: the comments above).
+DEFAULT_TOL, DEFAULT_TOL_SLIDING = 5e-4, 1e-4
 #: The exact solver's ``spin_shift`` of a table whose configuration does not name one: 1/4, the
 #: solver's fixed sampling before it became an option (default now 1/6, CONTACT's). Every table so
 #: far was built with it. The nodes are extrapolated solves, where the shift's first-order term
@@ -417,6 +420,10 @@ def _tolerance(text: str) -> float:
     return value
 
 
+def _tolerance_or_none(text: str) -> float | None:
+    return None if text.lower() == "none" else _tolerance(text)
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     p = argparse.ArgumentParser(prog="python -m contact_core.table",
@@ -438,13 +445,14 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--wide-above", type=_bound_or_none, default=WIDE_ABOVE,
                    help=f"2M x M elements above this a/b (default {WIDE_ABOVE}; 'none': square "
                    "grids only)")
-    b.add_argument("--tol", type=_tolerance, default=None,
-                   help="the exact solver's tolerance at the nodes (default: the exact method's, "
-                   f"{Exact.default_options['tol']:g}, which built the shipped table; 1e-4 takes "
-                   "about two thirds of the time, see this module)")
-    b.add_argument("--tol-sliding", type=_tolerance, default=None,
+    b.add_argument("--tol", type=_tolerance, default=DEFAULT_TOL,
+                   help=f"the exact solver's tolerance at the nodes (default {DEFAULT_TOL:g}, the "
+                   f"shipped table's; the exact method's own is "
+                   f"{Exact.default_options['tol']:g}, see this module)")
+    b.add_argument("--tol-sliding", type=_tolerance_or_none, default=DEFAULT_TOL_SLIDING,
                    help=f"the tolerance at the nodes after one whose slip fraction reached "
-                   f"{SLIDING} (default: --tol everywhere; see this module)")
+                   f"{SLIDING} (default {DEFAULT_TOL_SLIDING:g}, the shipped table's; 'none': "
+                   "--tol everywhere; see this module)")
     b.add_argument("--ghost-below", type=int, choices=(0, 1), default=None,
                    help="a ghost row of a/b below the table's range, read by the first "
                    "interval's cubic (grid.Axes; default: the axes')")
