@@ -25,6 +25,7 @@ import argparse
 import csv
 import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -87,7 +88,7 @@ def main() -> None:
 
     bench = make_cases("full")
     same_states("bench", contact["bench"][0], [c.solve_kwargs() for c in bench])
-    refs = compute_references(bench, REFERENCE_GRIDS["full"], jobs=a.workers or 2,
+    refs = compute_references(bench, REFERENCE_GRIDS["full"], jobs=a.workers or os.cpu_count() or 1,
                               scheduler=a.scheduler, cache="build/bench_reference")
     kind = np.array([c.kind for c in bench])
     held = held_out_sets()

@@ -346,6 +346,10 @@ def test_per_creepage_flexibilities_reproduce_linear_theory_for_combined_creepag
     assert abs(w.Fx / lin0.Fx - 1) > 0.1
 
 
+#: the inputs of a state in the CONTACT data (the keyword arguments of ``solve``)
+_INPUTS = ("a", "b", "G", "nu", "mu", "N", "xi", "eta", "phi")
+
+
 def _contact_fastsim_rows() -> list[dict[str, str]]:
     # CONTACT's own FASTSIM (M=3) on the benchmark's and check's states (provenance: the file's
     # header and tests/data/README_reference.md)
@@ -366,7 +370,7 @@ def test_contact_fastsim_data_is_on_the_states_this_package_generates():
     assert len(rows) == sum(map(len, sets.values()))
     for r in rows:
         kw = sets[r["set"]][int(r["id"])]
-        for k in ("a", "b", "G", "nu", "mu", "N", "xi", "eta", "phi"):
+        for k in _INPUTS:
             assert float(r[k]) == pytest.approx(kw[k], rel=1e-12, abs=1e-300)
 
 
@@ -378,7 +382,7 @@ def test_blended_contact_reproduces_contacts_fastsim_where_the_blend_matters():
     # flexibilities, they differ by up to 1.2 % of μN at 48×44.
     far = 0
     for r in _contact_fastsim_rows():
-        v = {k: float(r[k]) for k in ("a", "b", "G", "nu", "mu", "N", "xi", "eta", "phi")}
+        v = {k: float(r[k]) for k in _INPUTS}
         if r["set"] != "bench" or v["phi"] == 0.0 or v["xi"] == v["eta"] == 0.0:
             continue
         contact_fx, contact_fy = (float(r[f"parabolic_48x44_{q}"]) for q in ("Fx", "Fy"))
