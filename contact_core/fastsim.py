@@ -106,7 +106,7 @@ beside spin. p = 1/4 takes the elliptic hard region's |F| p95 to 3.85 / 3.57 (20
 the random set's from 6.03 / 5.78 to 5.39 / 4.82, but the elliptic hard region's max from 9.03 /
 8.83 to 14.08 / 13.76, and with the parabolic bound the random set's max from 9.05 to 12.33, the
 hard region's from 11.51 to 15.84 and the benchmark's with spin from 6.44 to 10.91 (behind CONTACT
-in 14 figures instead of 21, by at most 0.74). The states that set those maxima have η and φ of
+in 14 figures instead of 21, by at most 0.73). The states that set those maxima have η and φ of
 opposite signs, their lateral forces cancelling (linear force 6-8 μN, share 0.6-0.7). Where η and φ
 add (hard region, share 0.5-0.9) p = 1/4 takes the elliptic p95 from 4.8 to 1.2 but the parabolic
 one from 4.3 to 7.1: neither p = 1/2 nor 1/4, for both bounds or for one, is ahead in both p95 and

@@ -1,6 +1,6 @@
 """FASTSIM against independent references: linear theory, Johnson–Vermeulen, analytic full-sliding
-limits and CONTACT's published ``tractcurv`` example (see the module docstring of
-``contact_core.fastsim`` for the method)."""
+limits, CONTACT's published ``tractcurv`` example and CONTACT's own FASTSIM beside the converged
+exact theory (see the module docstring of ``contact_core.fastsim`` for the method)."""
 from __future__ import annotations
 
 import csv
@@ -368,6 +368,7 @@ def test_contact_fastsim_data_is_on_the_states_this_package_generates():
     for name, cases in sets.items():
         assert [int(r["id"]) for r in rows if r["set"] == name] == list(range(len(cases)))
     assert len(rows) == sum(map(len, sets.values()))
+    assert set(_exact_references()) == {(r["set"], int(r["id"])) for r in rows}
     for r in rows:
         kw = sets[r["set"]][int(r["id"])]
         for k in _INPUTS:
@@ -394,6 +395,52 @@ def test_blended_contact_reproduces_contacts_fastsim_where_the_blend_matters():
             far += 1
             assert off("blended-contact") < 0.012
     assert far == 11
+
+
+def _exact_references() -> dict[tuple[str, int], dict[str, float]]:
+    # the converged exact theory on the same states (provenance: the file's header)
+    with open(REFERENCE_DIR / "exact_references_fastsim_sets.csv", newline="") as f:
+        return {(r["set"], int(r["id"])): {k: float(r[k]) for k in ("Fx", "Fy", "F", "Mz",
+                                                                        "converged")}
+                for r in csv.DictReader(line for line in f if not line.startswith("#"))}
+
+
+@pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
+@pytest.mark.parametrize("nx, ny", [(20, 20), (48, 44)])
+def test_worst_force_error_with_spin_and_creepage_is_below_contacts_fastsim(bound, nx, ny):
+    # Against the converged exact theory, on the states where spin and creepage act together:
+    # the benchmark's 80 with spin and creepage (error of |F|, as its report) and the held-out
+    # random set (2,000 states, every direction) and hard region (2,000, near full sliding; both
+    # the vector error of (Fx, Fy)), CONTACT's FASTSIM (M=3) on the same number of elements. The
+    # largest force error of the default here is below CONTACT's on each set (the default's
+    # blend is chosen for its maxima, contact_core.fastsim). Left out: the held-out spin band,
+    # near pure spin, where CONTACT's maximum is lower with the parabolic bound (7.67 against
+    # 7.81 % of μN at 20x20, 9.21 against 9.45 at 48x44; docs/fastsim_vs_contact.md).
+    refs = _exact_references()
+    key = f"{bound}_{nx}x{ny}"
+    worst: dict[str, list[float]] = {"bench": [0.0, 0.0], "random": [0.0, 0.0],
+                                     "hard": [0.0, 0.0]}
+    counted = dict.fromkeys(worst, 0)
+    for r in _contact_fastsim_rows():
+        if r["set"] not in worst:
+            continue
+        v = {k: float(r[k]) for k in _INPUTS}
+        ref = refs[(r["set"], int(r["id"]))]
+        if r["set"] == "bench" and (v["phi"] == 0.0 or v["xi"] == v["eta"] == 0.0
+                                    or not ref["converged"]):
+            continue
+        counted[r["set"]] += 1
+        res = cc.solve("fastsim", **v, nx=nx, ny=ny, bound=bound)
+        contact = (float(r[f"{key}_Fx"]), float(r[f"{key}_Fy"]))
+        for i, (fx, fy) in enumerate(((res.Fx, res.Fy), contact)):
+            if r["set"] == "bench":
+                err = abs(math.hypot(fx, fy) - ref["F"])
+            else:
+                err = math.hypot(fx - ref["Fx"], fy - ref["Fy"])
+            worst[r["set"]][i] = max(worst[r["set"]][i], err / (v["mu"] * v["N"]))
+    assert counted == {"bench": 80, "random": 2000, "hard": 2000}
+    for name, (ours, theirs) in worst.items():
+        assert ours < theirs, (name, ours, theirs)
 
 
 def test_blends_bring_fastsim_closer_to_exact_theory_with_spin_and_large_creepage():
