@@ -407,40 +407,43 @@ def _exact_references() -> dict[tuple[str, int], dict[str, float]]:
 
 @pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
 @pytest.mark.parametrize("nx, ny", [(20, 20), (48, 44)])
-def test_worst_force_error_with_spin_and_creepage_is_below_contacts_fastsim(bound, nx, ny):
-    # Against the converged exact theory, on the states where spin and creepage act together:
-    # the benchmark's 80 with spin and creepage (error of |F|, as its report) and the held-out
-    # random set (2,000 states, every direction) and hard region (2,000, near full sliding; both
-    # the vector error of (Fx, Fy)), CONTACT's FASTSIM (M=3) on the same number of elements. The
-    # largest force error of the default here is below CONTACT's on each set (the default's
-    # blend is chosen for its maxima, contact_core.fastsim). Left out: the held-out spin band,
-    # near pure spin, where CONTACT's maximum is lower with the parabolic bound (7.67 against
-    # 7.81 % of μN at 20x20, 9.21 against 9.45 at 48x44; docs/fastsim_vs_contact.md).
+def test_with_spin_and_creepage_fastsim_is_not_behind_contacts_fastsim(bound, nx, ny):
+    # Against the converged exact theory, on the states where spin and creepage act together
+    # and the blend of flexibilities matters: the benchmark's 80 with spin and creepage (error
+    # of |F|, as its report), the held-out random set (2,000 states, every direction) and hard
+    # region (2,000, near full sliding; vector error of (Fx, Fy), and Mz), CONTACT's FASTSIM
+    # (M=3) on the same number of elements. The default here is not behind CONTACT's in p95 or
+    # maximum on any of them (the share's exponent per bound, contact_core.fastsim). Left out,
+    # where CONTACT's is lower (docs/fastsim_vs_contact.md): the held-out spin band near pure
+    # spin (parabolic |F| max 7.81 against 7.67 % of μN at 20x20, 9.45 against 9.21 at 48x44),
+    # and the benchmark's Mz, whose maximum with the parabolic bound at 48x44 is 11.71 against
+    # 11.58 % of μN·c.
     refs = _exact_references()
     key = f"{bound}_{nx}x{ny}"
-    worst: dict[str, list[float]] = {"bench": [0.0, 0.0], "random": [0.0, 0.0],
-                                     "hard": [0.0, 0.0]}
-    counted = dict.fromkeys(worst, 0)
+    errs: dict[tuple[str, str], list[list[float]]] = {
+        (s, q): [[], []] for s in ("bench", "random", "hard") for q in ("F", "Mz")}
     for r in _contact_fastsim_rows():
-        if r["set"] not in worst:
+        if r["set"] not in ("bench", "random", "hard"):
             continue
         v = {k: float(r[k]) for k in _INPUTS}
         ref = refs[(r["set"], int(r["id"]))]
         if r["set"] == "bench" and (v["phi"] == 0.0 or v["xi"] == v["eta"] == 0.0
                                     or not ref["converged"]):
             continue
-        counted[r["set"]] += 1
         res = cc.solve("fastsim", **v, nx=nx, ny=ny, bound=bound)
-        contact = (float(r[f"{key}_Fx"]), float(r[f"{key}_Fy"]))
-        for i, (fx, fy) in enumerate(((res.Fx, res.Fy), contact)):
+        contact = [float(r[f"{key}_{q}"]) for q in ("Fx", "Fy", "Mz")]
+        mun, c = v["mu"] * v["N"], math.sqrt(v["a"] * v["b"])
+        for i, (fx, fy, mz) in enumerate(((res.Fx, res.Fy, res.Mz), contact)):
             if r["set"] == "bench":
-                err = abs(math.hypot(fx, fy) - ref["F"])
+                errs[("bench", "F")][i].append(abs(math.hypot(fx, fy) - ref["F"]) / mun)
             else:
-                err = math.hypot(fx - ref["Fx"], fy - ref["Fy"])
-            worst[r["set"]][i] = max(worst[r["set"]][i], err / (v["mu"] * v["N"]))
-    assert counted == {"bench": 80, "random": 2000, "hard": 2000}
-    for name, (ours, theirs) in worst.items():
-        assert ours < theirs, (name, ours, theirs)
+                errs[(r["set"], "F")][i].append(math.hypot(fx - ref["Fx"], fy - ref["Fy"]) / mun)
+                errs[(r["set"], "Mz")][i].append(abs(mz - ref["Mz"]) / (mun * c))
+    assert [len(errs[(s, "F")][0]) for s in ("bench", "random", "hard")] == [80, 2000, 2000]
+    for (name, q), (ours, theirs) in errs.items():
+        if ours:
+            assert np.percentile(ours, 95) <= np.percentile(theirs, 95), (name, q, "p95")
+            assert max(ours) <= max(theirs), (name, q, "max")
 
 
 def test_blends_bring_fastsim_closer_to_exact_theory_with_spin_and_large_creepage():
