@@ -555,9 +555,9 @@ class Fastsim(ContactMethod):
         at 20×20), or a half first step, second order in FASTSIM's own grid limit.
     flexibility : {"blended", "blended-contact", "separate", "weighted"}, default "blended"
         One flexibility per creepage (L1, L2, L3, Kalker 1982) blended towards one as the
-        creepage grows, by its share of the linear force ("blended") or as CONTACT does
-        (Vollebregt & Voltr 2023); one per creepage; or Kalker 1982's single weighted one
-        (module docstring).
+        creepage grows, by a power of its share of the linear force ("blended", the power per
+        bound in ``SHARE_POWER``) or as CONTACT does (Vollebregt & Voltr 2023); one per
+        creepage; or Kalker 1982's single weighted one (module docstring).
     fields : bool, default False
         Return :class:`FastsimFields` (grid, tractions, bound, stick/slip mask, areas).
 

@@ -88,11 +88,11 @@ def export_references(path: Path, refs, held, held_refs) -> None:
         "# on the states of contact_fastsim_sets.csv (same set and id). set 'bench': grids 40, 48,",
         "# 64, 80, 96 (contact_core.bench.reference), F = |(Fx, Fy)| only, converged = 0 where a",
         "# solve did not converge or the fit's uncertainty exceeds 0.5 % of mu N (of mu N c for",
-        "# Mz; such cases are left out of the statistics); the held-out",
-        "# sets: grids 40, 48, 64, 80 (contact_core.table.check.references), Fx, Fy, Mz. SI units",
-        "# (N, N m), Kalker's sign convention. Written by python examples/fastsim_vs_contact.py",
-        "# --export-references FILE from the references kept by python -m contact_core.bench --full",
-        "# and python -m contact_core.table check.",
+        "# Mz; such cases are left out of the statistics); the held-out sets: grids 40, 48, 64,",
+        "# 80 (contact_core.table.check.references), Fx, Fy, Mz. SI units (N, N m), Kalker's sign",
+        "# convention. Written by python examples/fastsim_vs_contact.py --export-references FILE",
+        "# from the references kept by python -m contact_core.bench --full and",
+        "# python -m contact_core.table check.",
         "set,id,Fx,Fy,F,Mz,converged"]
     lines += [f"bench,{i},nan,nan,{r.F:.10g},{r.Mz:.10g},{int(r.converged)}"
               for i, r in enumerate(refs)]
