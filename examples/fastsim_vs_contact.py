@@ -14,7 +14,8 @@ Errors, in % of μN (forces) and of μN·c (Mz, c = √(ab)), against the refere
 reports: on the benchmark the error of |F| (``contact_core.bench.report.errors``; its reference
 kept in ``build/bench_reference`` by ``python -m contact_core.bench --full``), on the held-out
 sets the vector error of (Fx, Fy) (``contact_core.table.check.errors``; references kept in
-``build/`` by ``python -m contact_core.table check``). Missing references are computed (hours on
+``build/table_check_reference`` by ``python -m contact_core.table check``; both are computed again
+when the exact solver changes). Missing references are computed (hours on
 two cores; ``--workers``, ``--scheduler`` as in those commands).
 
     python examples/fastsim_vs_contact.py [--options '{"scheme": "midpoint"}']
@@ -38,7 +39,7 @@ import contact_core as cc
 from contact_core.bench.cases import make_cases
 from contact_core.bench.reference import REFERENCE_GRIDS, compute_references
 from contact_core.bench.report import errors as bench_errors
-from contact_core.table.check import (errors as check_errors, held_out_sets, kept_references,
+from contact_core.table.check import (KEPT, errors as check_errors, held_out_sets, references,
                                       result_errors)
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "contact_fastsim_sets.csv"
@@ -123,8 +124,8 @@ def main() -> None:
     held = held_out_sets()
     for name, _, cases, _ in held:
         same_states(name, contact[name][0], cases)
-    held_refs = [kept_references(name, cases, seed, a.scheduler, a.workers)[0]
-                 for name, _, cases, seed in held]
+    held_refs = [references(cases, a.scheduler, a.workers, folder=KEPT)[0]
+                 for _, _, cases, _ in held]
     if a.export_references:
         export_references(Path(a.export_references), refs, held, held_refs)
 

@@ -202,3 +202,29 @@ def test_reference_solutions_are_kept_and_reused(tmp_path, monkeypatch):
         [(r.F, r.Mz, r.u_F, r.solver_converged) for r in first]
     with pytest.raises(AssertionError, match="not reused"):
         reference.compute_references(cases[:2], (12, 16, 20), progress=False, cache=tmp_path)
+
+
+def test_held_out_references_are_solved_again_when_the_exact_solver_changes(tmp_path,
+                                                                             monkeypatch):
+    # the table check's references (held-out sets) are kept like the benchmark's, named by the
+    # exact solver's source: kept ones once outlived a change of its spin discretisation
+    from contact_core.bench import reference
+    from contact_core.table import check
+    from contact_core.table.build import AXES
+    monkeypatch.setattr(check, "GRIDS", (12, 16, 20))
+    cases = check.spin_cases(2, 1, AXES["full"])
+    first, seconds = check.references(cases, workers=1, progress=False, folder=tmp_path)
+    assert first.shape == (2, 3) and np.isfinite(first).all() and seconds > 0
+    solved = reference.grid_solutions
+
+    def no_solving(*args, **kwargs):
+        raise AssertionError("kept solutions were not reused")
+    monkeypatch.setattr(reference, "grid_solutions", no_solving)
+    again, _ = check.references(cases, workers=1, progress=False, folder=tmp_path)
+    assert (again == first).all()
+    monkeypatch.setattr(reference, "_SOURCES", reference._SOURCES[:-1])   # "the solver changed"
+    with pytest.raises(AssertionError, match="not reused"):
+        check.references(cases, workers=1, progress=False, folder=tmp_path)
+    monkeypatch.setattr(reference, "grid_solutions", solved)
+    check.references(cases, workers=1, progress=False, folder=tmp_path)
+    assert len(list(tmp_path.glob("reference_*.npz"))) == 2

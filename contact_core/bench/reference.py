@@ -206,15 +206,30 @@ def compute_references(cases: Sequence[Case], grids: Iterable[int] = REFERENCE_G
         raise ValueError(f"grids={grids}: need at least 3 grids for the extrapolation and its "
                          "uncertainty")
     kwargs = [c.solve_kwargs() for c in cases]
-    kept = (_cache_file(Path(cache), kwargs, grids)
-            if cache is not None and solve_task is _solve_exact else None)
-    sols = _load_solutions(kept, len(cases), grids) if kept is not None else None
-    if sols is None:
+    if cache is not None and solve_task is _solve_exact:
+        sols = kept_grid_solutions(kwargs, grids, cache, executor=executor, jobs=jobs,
+                                   scheduler=scheduler, progress=progress)
+    else:
         sols = grid_solutions(kwargs, grids, executor=executor, jobs=jobs, scheduler=scheduler,
                               progress=progress, solve_task=solve_task)
-        if kept is not None:
-            _save_solutions(kept, sols, grids)
     return _build(cases, grids, sols, tol_force, tol_moment)
+
+
+def kept_grid_solutions(kwargs: Sequence[dict[str, float]], grids: Sequence[int],
+                        cache: str | Path, **where: Any) -> list[dict[int, tuple]]:
+    """:func:`grid_solutions` of the exact solver, kept in the folder ``cache`` (module
+    docstring): read from there when the states, the grids and the solver's source are the ones
+    they were computed with, else computed (``where``: ``executor``, ``jobs``, ``scheduler``,
+    ``progress`` of :func:`grid_solutions`) and written there. Also the held-out check's
+    references (:mod:`contact_core.table.check`)."""
+    grids = tuple(sorted(set(int(m) for m in grids)))
+    kwargs = list(kwargs)
+    kept = _cache_file(Path(cache), kwargs, grids)
+    sols = _load_solutions(kept, len(kwargs), grids)
+    if sols is None:
+        sols = grid_solutions(kwargs, grids, **where)
+        _save_solutions(kept, sols, grids)
+    return sols
 
 
 #: Sources the reference depends on (relative to the package): the exact solver and what it uses.

@@ -5,7 +5,9 @@ Cases (seeded, never the table's nodes): a/b log-uniform over the table's range,
 its range, the direction of the reduced creepage u (:mod:`.grid`) uniform on the sphere (every
 sign), |u| log-uniform from 1e-3 (linear range) to 1e2 (full sliding), N and μ log-uniform. The
 reference is the benchmark's (:mod:`contact_core.bench.reference`): the exact solver on square
-grids, each on its own (``extrapolate=False``), fitted to q(m) = q∞ + C/m and taken at m -> ∞.
+grids, each on its own (``extrapolate=False``), fitted to q(m) = q∞ + C/m and taken at m -> ∞;
+its grid solutions are kept as the benchmark's are (in ``build/table_check_reference``) and
+computed again when the exact solver changes.
 Errors: |F| vector error in % of μN, Mz error in % of μN c. Writes a Markdown report.
 
 A second, smaller set (``--hard``, seed + 1) samples the region where interpolation is hardest and
@@ -33,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..bench.reference import fit_extrapolation, grid_solutions
+from ..bench.reference import fit_extrapolation, grid_solutions, kept_grid_solutions
 from .build import AXES
 from .grid import creepages_from_reduced
 
@@ -43,6 +45,8 @@ GRIDS = (40, 48, 64, 80)
 #: not change with the axes.
 HARD_PSI = math.pi / 20
 _C, _G = 6e-3, 8e10
+#: Folder of the references' grid solutions (:func:`references`).
+KEPT = "build/table_check_reference"
 
 
 def _shape(rng: np.random.Generator, axes) -> tuple[float, float]:
@@ -116,15 +120,21 @@ def spin_cases(n: int, seed: int, axes) -> list[dict[str, float]]:
     return out
 
 
-def references(cases, scheduler=None, workers=None, progress=True) -> np.ndarray:
-    """(Fx, Fy, Mz) extrapolated to zero element size per case (module docstring)."""
-    sols = grid_solutions(cases, GRIDS, jobs=workers or os.cpu_count() or 1, scheduler=scheduler,
-                          progress=progress)
+def references(cases, scheduler=None, workers=None, progress=True,
+               folder: str | Path | None = None) -> tuple[np.ndarray, float]:
+    """(Fx, Fy, Mz) extrapolated to zero element size per case (module docstring), and the
+    seconds of exact solves they took; the grid solutions are kept in ``folder`` if given
+    (:func:`contact_core.bench.reference.kept_grid_solutions`: computed again when the exact
+    solver changes)."""
+    where = {"jobs": workers or os.cpu_count() or 1, "scheduler": scheduler,
+             "progress": progress}
+    sols = (kept_grid_solutions(cases, GRIDS, folder, **where) if folder is not None
+            else grid_solutions(cases, GRIDS, **where))
     out = np.empty((len(cases), 3))
     for i, s in enumerate(sols):
         for j in range(3):
             out[i, j] = fit_extrapolation(GRIDS, [s[m][j] for m in GRIDS])[0]
-    return out
+    return out, sum(s[m][4] for s in sols for m in GRIDS)
 
 
 def held_out_sets(n: int = 2000, seed: int = 20261123, hard: int = 2000,
@@ -138,25 +148,6 @@ def held_out_sets(n: int = 2000, seed: int = 20261123, hard: int = 2000,
         if m > 0:
             out.append((name, title, make(m, seed + k, AXES["full"]), seed + k))
     return out
-
-
-def kept_references(name: str, cases, seed: int, scheduler: str | None = None,
-                    workers: int | None = None, progress: bool = True,
-                    folder: str | Path = "build") -> tuple[np.ndarray, float]:
-    """The references of one held-out set (:func:`held_out_sets`) and the seconds they took:
-    computed once (:func:`references`) and kept in ``folder`` as numpy data (no pickle); they
-    depend on the cases only."""
-    stem = f"{len(cases)}_{seed}" if name == "random" else f"{name}_{len(cases)}_{seed}"
-    keep = Path(folder) / f"table_check_reference_{stem}.npz"
-    if keep.is_file():
-        with np.load(keep, allow_pickle=False) as z:
-            return z["ref"], float(z["seconds"])
-    t0 = time.perf_counter()
-    ref = references(cases, scheduler, workers, progress)
-    seconds = time.perf_counter() - t0
-    keep.parent.mkdir(parents=True, exist_ok=True)
-    np.savez(keep, ref=ref, seconds=seconds)
-    return ref, seconds
 
 
 def errors(cases, ref: np.ndarray, method: str, **options) -> tuple[np.ndarray, np.ndarray]:
@@ -194,11 +185,11 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--spin", type=int, default=300, help="cases of the spin band (module "
                    "docstring; 0: none)")
     p.add_argument("--references-only", action="store_true",
-                   help="compute and keep the references (build/), no table needed yet")
+                   help=f"compute and keep the references ({KEPT}), no table needed yet")
     a = p.parse_args(argv)
     sets = held_out_sets(a.cases, a.seed, a.hard, a.spin)
-    kept = [kept_references(name, cases_k, seed, a.scheduler, a.workers, not a.no_progress)
-            for name, _, cases_k, seed in sets]
+    kept = [references(cases_k, a.scheduler, a.workers, not a.no_progress, KEPT)
+            for _, _, cases_k, _ in sets]
     (_, _, cases, _), (ref, t_ref) = sets[0], kept[0]
     extra, extra_refs = sets[1:], kept[1:]
     if a.references_only:
@@ -239,8 +230,8 @@ def main(argv: list[str] | None = None) -> int:
              f"Generated by `python -m contact_core.table check {' '.join(argv or sys.argv[1:])}`"
              f" on {time.strftime('%Y-%m-%d')}: {a.cases} random cases, seed {a.seed} "
              f"(`contact_core/table/check.py`), reference: exact on {', '.join(map(str, GRIDS))}"
-             f" grids extrapolated to zero element size ({t_ref:.0f} s). Table built by "
-             f"`{t.meta.get('command', '?')}`.", "",
+             f" grids extrapolated to zero element size ({t_ref:.0f} s of exact solves). Table "
+             f"built by `{t.meta.get('command', '?')}`.", "",
              "| method | \\|F\\| error median / p95 / max, % of μN | Mz error median / p95 / "
              "max, % of μN·c | µs per solve call |", "|---|---:|---:|---:|"]
     for name, (eF, eM), t_us in (("table", err_table, us["random"][0]),
@@ -281,7 +272,7 @@ def main(argv: list[str] | None = None) -> int:
     for (name, title, cases_k, seed), (ref_k, t_k) in zip(extra, extra_refs):
         eF, eM = errors(cases_k, ref_k, "table")
         lines += ["", f"{title} (module docstring): {len(cases_k)} cases, seed {seed}, same "
-                  f"reference ({t_k:.0f} s). |F| error median / p95 / max "
+                  f"reference ({t_k:.0f} s of exact solves). |F| error median / p95 / max "
                   f"{np.median(eF):.2f} / {np.percentile(eF, 95):.2f} / {eF.max():.2f} % of μN; "
                   f"Mz {np.median(eM):.2f} / {np.percentile(eM, 95):.2f} / {eM.max():.2f} % of "
                   "μN·c. Largest Mz errors:", "",
