@@ -105,8 +105,8 @@ parabolic spin band, where the blend does not act and the two differ only in the
 here, a rectangle over the bounding box there; see the rectangle tried below) and the creep
 coefficients (below), and on one moment maximum the blend changes (the benchmark's Mz,
 parabolic, 48×44: 11.71 against 11.58). (Held-out references solved again 2026-11-25 with the
-present exact solver; they moved by at most 0.3 % of μN, and the spin band's |F| max at 20×20
-went from 0.14 behind to 0.02 ahead.)
+present exact solver; they moved by at most 0.3 % of μN, 0.5 % of μN·c in Mz, and the spin band's
+|F| max at 20×20 went from 0.14 behind to 0.02 ahead.)
 
 The creep coefficients between the table's rows: CONTACT (``linrol``) interpolates Kalker's table
 linearly in b/a between its rows b/a = 0.1, 0.2, ..., which between a/b = 5 and 10, where the
@@ -122,8 +122,8 @@ coefficients; an analysis build, measured 2026-11-25), its spin band Mz p95 / ma
 hard region |F| p95 4.56 -> 3.74 (20×20) and 3.96 -> 3.41 (48×44), below this module's 4.17 and
 3.87 (this module's ``flexibility="blended-contact"``, CONTACT's blend, gives 3.7 there too, with
 the higher maximum, table above): part of this module's lead in that figure is CONTACT's
-coefficients, not its blend. Counted against that build, this module is behind in 17 of the 96
-figures instead of 15.
+coefficients, not this module's blend. Counted against that build, this module is behind in 17
+of the 96 figures instead of 15.
 
 The share's exponent p (measured 2026-11-25 on those sets with p = 1, 1/2, 1/3, 1/4): the two
 bounds answer it in opposite ways. In the hard region with the creepage near pure η and η, φ of one
