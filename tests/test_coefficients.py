@@ -97,10 +97,11 @@ def test_poisson_interpolation_between_tabulated_ratios():
 def test_between_the_last_two_rows_the_coefficients_follow_the_exact_theory(a_over_b):
     # Between Kalker's rows a/b = 5 and 10 (b/a = 0.2 and 0.1) C11, C22 grow by a factor 1.5 and
     # C23 by 2.2: how the table is interpolated matters there. The reference is independent of
-    # the table: the exact theory's linear range (Kalker's boundary elements, default setting,
-    # within 1 % of the table at its rows, test_exact), at ν = 1/4 (a tabulated ratio). Allowed:
-    # that 1 % plus 1 % for the interpolant. A straight line in b/a between the two rows, as
-    # CONTACT's ``linrol`` interpolates, is 6-17 % above the exact theory here (checked below).
+    # the table: the exact theory's linear range (Kalker's boundary elements, default setting),
+    # at ν = 1/4 (a tabulated ratio). Allowed: 2 %, the exact setting's own error at the table's
+    # rows (C11, C22 within 1 %, test_exact; C23 0.3-1.2 % low at a/b = 1, 2, 5, 10) and the
+    # interpolant's. A straight line in b/a between the two rows, as CONTACT's ``linrol``
+    # interpolates, is 6-17 % above the exact theory here (checked below).
     nu, G, c = 0.25, 8e10, 6e-3
     b = c / math.sqrt(a_over_b)
     a = a_over_b * b
