@@ -31,6 +31,7 @@ import csv
 import json
 import math
 import os
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -39,6 +40,7 @@ import contact_core as cc
 from contact_core.bench.cases import make_cases
 from contact_core.bench.reference import REFERENCE_GRIDS, compute_references
 from contact_core.bench.report import errors as bench_errors
+from contact_core.table.check import GRIDS as CHECK_GRIDS
 from contact_core.table.check import (KEPT, errors as check_errors, held_out_sets, references,
                                       result_errors)
 
@@ -83,18 +85,21 @@ def cell(e: np.ndarray) -> tuple[float, float]:
 def export_references(path: Path, refs, held, held_refs) -> None:
     """The converged exact references of the benchmark (|F|, Mz and whether it converged,
     ``contact_core.bench.reference``) and of the held-out sets (Fx, Fy, Mz) as CSV."""
-    lines = [
-        "# The converged exact theory (contact_core's exact solver, Kalker's half-space boundary",
-        "# elements, solved on several square grids, each alone, and fitted to q(m) = q_inf + C/m)",
-        "# on the states of contact_fastsim_sets.csv (same set and id). set 'bench': grids 40, 48,",
-        "# 64, 80, 96 (contact_core.bench.reference), F = |(Fx, Fy)| only, converged = 0 where a",
-        "# solve did not converge or the fit's uncertainty exceeds 0.5 % of mu N (of mu N c for",
-        "# Mz; such cases are left out of the statistics); the held-out sets: grids 40, 48, 64,",
-        "# 80 (contact_core.table.check.references), Fx, Fy, Mz. SI units (N, N m), Kalker's sign",
-        "# convention. Written by python examples/fastsim_vs_contact.py --export-references FILE",
-        "# from the references kept by python -m contact_core.bench --full and",
-        "# python -m contact_core.table check.",
-        "set,id,Fx,Fy,F,Mz,converged"]
+    header = (
+        "The converged exact theory (contact_core's exact solver, Kalker's half-space boundary "
+        "elements, solved on several square grids, each alone, and fitted to q(m) = q_inf + C/m) "
+        "on the states of contact_fastsim_sets.csv (same set and id). set 'bench': grids "
+        f"{', '.join(map(str, REFERENCE_GRIDS['full']))} (contact_core.bench.reference), "
+        "F = |(Fx, Fy)| only, converged = 0 where a solve did not converge or the fit's "
+        "uncertainty exceeds 0.5 % of mu N (of mu N c for Mz; such cases are left out of the "
+        f"statistics); the held-out sets: grids {', '.join(map(str, CHECK_GRIDS))} "
+        "(contact_core.table.check.references), Fx, Fy, Mz. SI units (N, N m), Kalker's sign "
+        "convention. Written by python examples/fastsim_vs_contact.py --export-references FILE "
+        "from the references kept by python -m contact_core.bench --full and python -m "
+        "contact_core.table check.")
+    lines = textwrap.wrap(header, 90, initial_indent="# ", subsequent_indent="# ",
+                          break_on_hyphens=False)
+    lines.append("set,id,Fx,Fy,F,Mz,converged")
     lines += [f"bench,{i},nan,nan,{r.F:.10g},{r.Mz:.10g},{int(r.converged)}"
               for i, r in enumerate(refs)]
     for (name, _, _, _), ref in zip(held, held_refs):

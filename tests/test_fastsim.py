@@ -415,9 +415,9 @@ def test_with_spin_and_creepage_fastsim_is_not_behind_contacts_fastsim(bound, nx
     # (M=3) on the same number of elements. The default here is not behind CONTACT's in p95 or
     # maximum on any of them (the share's exponent per bound, contact_core.fastsim). Left out,
     # where CONTACT's is lower (docs/fastsim_vs_contact.md): the held-out spin band near pure
-    # spin (parabolic |F| max 7.81 against 7.67 % of μN at 20x20, 9.45 against 9.21 at 48x44),
-    # and the benchmark's Mz, whose maximum with the parabolic bound at 48x44 is 11.71 against
-    # 11.58 % of μN·c.
+    # spin (parabolic, 48x44: |F| max 9.44 against 9.21 % of μN, Mz p95 9.28 against 8.54 % of
+    # μN·c, set at a/b 6-10 by CONTACT's creep coefficients, contact_core.fastsim), and the
+    # benchmark's Mz, whose maximum with the parabolic bound at 48x44 is 11.71 against 11.58 %.
     from contact_core.table.check import result_errors
     refs = _exact_references()
     key = f"{bound}_{nx}x{ny}"
