@@ -228,3 +228,19 @@ def test_held_out_references_are_solved_again_when_the_exact_solver_changes(tmp_
     monkeypatch.setattr(reference, "grid_solutions", solved)
     check.references(cases, workers=1, progress=False, folder=tmp_path)
     assert len(list(tmp_path.glob("reference_*.npz"))) == 2
+
+
+def test_hard_sweep_leaves_the_dear_methods_out_with_zero_exact_cases(tmp_path, capsys):
+    # ``--exact-cases 0`` runs the closed-form methods and FASTSIM only; counts below 0 (or no
+    # cases) are refused by name instead of failing inside the sweep
+    from contact_core.bench import hard
+    assert hard.main(["--cases", "60", "--exact-cases", "0", "--out", str(tmp_path),
+                      "--no-progress"]) == 0
+    text = (tmp_path / "hard_cases.md").read_text(encoding="utf-8")
+    rows = [line.split("|")[1].strip() for line in text.splitlines()
+            if line.startswith("| ") and line.split("|")[2].strip() == "60"]
+    assert rows == ["linear", "johnson_vermeulen", "fastsim"]
+    for argv, name in ((["--cases", "0"], "--cases"), (["--exact-cases", "-1"], "--exact-cases")):
+        with pytest.raises(SystemExit):
+            hard.main(argv)
+        assert name in capsys.readouterr().err
