@@ -47,6 +47,10 @@ HARD_PSI = math.pi / 20
 _C, _G = 6e-3, 8e10
 #: Folder of the references' grid solutions (:func:`references`).
 KEPT = "build/table_check_reference"
+#: A second draw of the three sets (the arguments of :func:`held_out_sets`): fewer states, seeds
+#: apart from the default's; choices made on the first draw are checked on it
+#: (``examples/fastsim_vs_contact.py``).
+SECOND_DRAW = {"n": 600, "seed": 20261201, "hard": 600, "spin": 300}
 
 
 def _shape(rng: np.random.Generator, axes) -> tuple[float, float]:
