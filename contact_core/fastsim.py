@@ -108,9 +108,11 @@ creepage (parabolic, 20×20: benchmark 6.2 against 12.7, random set 8.6 against 
 11.3 against 18.6), and behind in 9 by 0.04-0.24 % of μN (or μN·c), all on the benchmark's pure
 ξ, η, (ξ, η) or φ (one of them the elliptic bound's moment maximum, set by a pure spin state),
 where neither the blend nor the spin moment's flexibility act and the two differ only in the
-layout (strips here, a rectangle over the bounding box there; see the rectangle tried below);
-most of these gaps are within the references' uncertainty (95 % half-width per case, median
-0.09-0.16 % of μN). On a second draw of the three held-out sets (``check.SECOND_DRAW``: 600, 600
+layout (strips here, a rectangle over the bounding box there; see the rectangle tried below).
+For 6 of them the references' uncertainty (95 % half-width per case, median 0.09-0.16 % of μN)
+leaves the order open (a Monte Carlo over it, 2026-11-25: behind in 55-96 % of 2,000 draws); in
+every draw behind are the elliptic bound's pure φ at 48×44 (p95, max) and its moment maximum at
+20×20 (a pure spin state, a/b = 5). On a second draw of the three held-out sets (``check.SECOND_DRAW``: 600, 600
 and 300 states, seeds 20261201-03, drawn after the exponents were chosen; references and
 CONTACT's results computed as for the first) it is behind in none of the 48 figures. An earlier
 redraw with seed 20261125 for all three (not kept: the first draw's spin band has that seed) was
