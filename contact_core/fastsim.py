@@ -105,20 +105,20 @@ three held-out sets; CONTACT's results are data in the tests): ``python
 examples/fastsim_vs_contact.py`` writes the 96 figures to ``docs/fastsim_vs_contact.md``. This
 module's default is not behind in 87 of them, with the widest margins on the maxima with spin and
 creepage (parabolic, 20×20: benchmark 6.2 against 12.7, random set 8.6 against 15.3, hard region
-11.3 against 18.6), and behind in 9 by 0.04-0.24 % of μN (or μN·c), all on the benchmark's pure
-ξ, η, (ξ, η) or φ (one of them the elliptic bound's moment maximum, set by a pure spin state),
-where neither the blend nor the spin moment's flexibility act and the two differ only in the
-layout (strips here, a rectangle over the bounding box there; see the rectangle tried below).
-For 6 of them the references' uncertainty (95 % half-width per case, median 0.09-0.16 % of μN)
-leaves the order open (a Monte Carlo over it, 2026-11-25: behind in 55-96 % of 2,000 draws); in
-every draw behind are the elliptic bound's pure φ at 48×44 (p95, max) and its moment maximum at
-20×20 (a pure spin state, a/b = 5). On a second draw of the three held-out sets (``check.SECOND_DRAW``: 600, 600
-and 300 states, seeds 20261201-03, drawn after the exponents were chosen; references and
-CONTACT's results computed as for the first) it is behind in none of the 48 figures. An earlier
-redraw with seed 20261125 for all three (not kept: the first draw's spin band has that seed) was
-behind in 5 of its 48, all maxima, by 0.17-1.53 (the random set's |F| max at 48×44 with both
-bounds, its Mz max with the elliptic bound at both grids, the parabolic spin band's |F| max at
-20×20), every p95 ahead: the maximum over a few hundred states moves with the draw.
+11.3 against 18.6), and behind in 9 by 0.04-0.24 % of μN (or μN·c), all on the benchmark's pure ξ,
+η, (ξ, η) or φ (one of them the elliptic bound's moment maximum, set by a pure spin state), where
+neither the blend nor the spin moment's flexibility act and the two differ only in the layout
+(strips here, a rectangle over the bounding box there; see the rectangle tried below). For 6 of them
+the references' uncertainty (95 % half-width per case, median 0.09-0.16 % of μN) leaves the order
+open (a Monte Carlo over it, 2026-11-25: behind in 55-96 % of 2,000 draws); in every draw behind are
+the elliptic bound's pure φ at 48×44 (p95, max) and its moment maximum at 20×20 (a pure spin state,
+a/b = 5). On a second draw of the three held-out sets (``check.SECOND_DRAW``: 600, 600 and 300
+states, seeds 20261201-03, drawn after the exponents were chosen; references and CONTACT's results
+computed as for the first) it is behind in none of the 48 figures. An earlier redraw with seed
+20261125 for all three (not kept: the first draw's spin band has that seed) was behind in 5 of its
+48, all maxima, by 0.17-1.53 (the random set's |F| max at 48×44 with both bounds, its Mz max with
+the elliptic bound at both grids, the parabolic spin band's |F| max at 20×20), every p95 ahead: the
+maximum over a few hundred states moves with the draw.
 
 The creep coefficients between the table's rows: CONTACT (``linrol``) interpolates Kalker's table
 linearly in b/a between its rows b/a = 0.1, 0.2, ..., which between a/b = 5 and 10, where the
