@@ -146,8 +146,8 @@ effective C33 = 32 C23 (b/a)^{3/2} / (15π): 0.88 C33 at a/b = 1, 0.56 at 5, 0.4
 linear theory) gives that term its own L4 = 8b/(15 G C33). The default blend uses L3^(1-q) L4^q
 for it, blended as L3 is (the slip law keeps L3). Near pure spin the parabolic bound's moment is
 too low (mean signed error -2 to -6 % of μN·c over a/b in the spin band, 20×20, q = 0; in full
-sliding its pressure's moment arm is shorter: 8/15 μNa against the Hertzian 3π/16 μNa on a
-circle), the elliptic bound's too high (+2 to +11 %, growing with a/b). Parabolic bound,
+sliding its pressure's moment arm is shorter: μ∫ p_n r dA = 8/15 μNa against the Hertzian
+3π/16 μNa on a circle), the elliptic bound's too high (+2 to +11 %, growing with a/b). Parabolic bound,
 against CONTACT's FASTSIM on the figures q changes (p95 / max, 20×20 unless marked):
 
     q          bench pure φ   spin band |F|  spin band Mz   same, 48×44 |F|  48×44 Mz

@@ -371,10 +371,9 @@ def test_contact_fastsim_data_is_on_the_states_this_package_generates():
     # examples/fastsim_vs_contact.py compares on these states; if a generator changes, CONTACT
     # has to be run again (the script refuses too)
     from contact_core.bench.cases import make_cases
-    from contact_core.table.check import SECOND_DRAW, held_out_sets
+    from contact_core.table.check import held_out_sets, second_draw
     sets = {"bench": [c.solve_kwargs() for c in make_cases("full")],
-            **{name: cases for name, _, cases, _ in held_out_sets()},
-            **{name + "2": cases for name, _, cases, _ in held_out_sets(**SECOND_DRAW)}}
+            **{name: cases for name, _, cases, _ in held_out_sets() + second_draw()}}
     rows = _contact_fastsim_rows()
     for name, cases in sets.items():
         assert [int(r["id"]) for r in rows if r["set"] == name] == list(range(len(cases)))

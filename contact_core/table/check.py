@@ -154,6 +154,13 @@ def held_out_sets(n: int = 2000, seed: int = 20261123, hard: int = 2000,
     return out
 
 
+def second_draw() -> list[tuple[str, str, list[dict[str, float]], int]]:
+    """:func:`held_out_sets` drawn again with ``SECOND_DRAW``: the names with the suffix "2",
+    the titles with "(second draw)"."""
+    return [(name + "2", f"{title} (second draw)", cases, seed)
+            for name, title, cases, seed in held_out_sets(**SECOND_DRAW)]
+
+
 def errors(cases, ref: np.ndarray, method: str, **options) -> tuple[np.ndarray, np.ndarray]:
     """|F| errors in % of μN and Mz errors in % of μN·c of ``method`` on ``cases`` against
     ``ref`` ((Fx, Fy, Mz) per case, :func:`references`)."""
