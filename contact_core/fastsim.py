@@ -80,18 +80,19 @@ Option ``flexibility``:
     term -φy of the longitudinal slip has its own flexibility, √(L3 L4) (``MOMENT_POWER``, the
     spin moment's flexibility below), also without the saturation effect.
 
-Measured against the converged exact theory (2026-11-25), 20×20 "kalker", |F| error p95 / max in
-% of μN and Mz in % of μN·c, "separate" / "blended-contact" / "blended":
+Measured against the converged exact theory (2026-11-25, with the element-mean traction bound),
+20×20 "kalker", |F| error p95 / max in % of μN and Mz in % of μN·c, "separate" /
+"blended-contact" / "blended":
 
     cases                             parabolic bound           elliptic bound
-    bench, 80 with spin, creepage     7.2/10.9  4.9/12.5  2.7/6.2   8.7/11.9  5.9/10.8  5.9/8.8
-    bench, 400, Mz                    7.4/10.8  7.9/11.6  7.0/10.3  5.6/11.4  4.7/11.4  4.8/11.4
-    check, 2000 random                10.0/16.8 6.0/14.5  4.8/8.6   12.6/20.3 5.4/11.7  5.4/11.7
-    same, Mz                          7.9/15.7  10.3/17.1 9.0/12.9  9.3/27.5  5.1/15.8  5.1/15.9
-    check, 2000 hard region           11.9/18.3 8.4/17.6  6.4/11.3  14.4/23.2 3.7/15.9  4.2/13.5
-    same, Mz                          10.3/28.6 12.0/22.4 10.5/15.4 9.6/42.8  1.7/16.2  1.7/13.8
-    check, 300 spin band              6.0/8.1   6.0/7.5   4.6/7.7   11.2/12.1 11.2/12.2 11.2/12.1
-    same, Mz                          7.8/9.1   7.8/9.3   6.7/8.0   16.3/20.5 16.3/20.5 16.3/20.5
+    bench, 80 with spin, creepage     7.2/10.9  4.9/12.5  2.7/6.2   8.7/11.9  5.8/10.8  5.9/8.8
+    bench, 400, Mz                    7.4/10.8  7.9/11.6  7.0/10.3  5.5/10.9  4.7/10.9  4.9/10.9
+    check, 2000 random                10.0/16.8 6.0/14.5  4.8/8.6   12.5/20.2 5.3/11.4  5.3/11.4
+    same, Mz                          7.9/15.7  10.3/17.2 9.0/13.0  9.3/27.5  5.0/15.7  5.0/15.9
+    check, 2000 hard region           11.9/18.3 8.4/17.7  6.4/11.3  14.3/23.2 3.6/16.0  4.1/13.5
+    same, Mz                          10.4/28.6 12.1/22.5 10.6/15.4 9.6/42.8  1.7/16.3  1.6/14.0
+    check, 300 spin band              6.0/8.1   6.0/7.6   4.6/7.7   10.9/11.9 11.0/11.9 11.0/11.9
+    same, Mz                          7.8/9.1   7.8/9.4   6.7/8.1   15.7/19.9 15.7/19.9 15.7/19.9
 
 (check: the held-out sets of ``python -m contact_core.table check``, a/b 0.1-10, vector error; its
 hard region lies near full sliding with the creepage close to pure ξ or η.) Pure ξ and η on the
@@ -103,22 +104,24 @@ Against CONTACT's own FASTSIM (M=3, built from its source, eve70a/CONTACT d431cd
 states and numbers of elements (20×20 and 48×44, both bounds; the benchmark's 400 cases and the
 three held-out sets; CONTACT's results are data in the tests): ``python
 examples/fastsim_vs_contact.py`` writes the 96 figures to ``docs/fastsim_vs_contact.md``. This
-module's default is not behind in 87 of them, with the widest margins on the maxima with spin and
+module's default is not behind in 90 of them, with the widest margins on the maxima with spin and
 creepage (parabolic, 20×20: benchmark 6.2 against 12.7, random set 8.6 against 15.3, hard region
-11.3 against 18.6), and behind in 9 by 0.04-0.24 % of μN (or μN·c), all on the benchmark's pure ξ,
-η, (ξ, η) or φ (one of them the elliptic bound's moment maximum, set by a pure spin state), where
-neither the blend nor the spin moment's flexibility act and the two differ only in the layout
-(strips here, a rectangle over the bounding box there; see the rectangle tried below). For 6 of them
-the references' uncertainty (95 % half-width per case, median 0.09-0.16 % of μN) leaves the order
-open (a Monte Carlo over it, 2026-11-25: behind in 55-96 % of 2,000 draws); in every draw behind are
-the elliptic bound's pure φ at 48×44 (p95, max) and its moment maximum at 20×20 (a pure spin state,
-a/b = 5). On a second draw of the three held-out sets (``check.SECOND_DRAW``: 600, 600 and 300
-states, seeds 20261201-03, drawn after the exponents were chosen; references and CONTACT's results
-computed as for the first) it is behind in none of the 48 figures. An earlier redraw with seed
-20261125 for all three (not kept: the first draw's spin band has that seed) was behind in 5 of its
-48, all maxima, by 0.17-1.53 (the random set's |F| max at 48×44 with both bounds, its Mz max with
-the elliptic bound at both grids, the parabolic spin band's |F| max at 20×20), every p95 ahead: the
-maximum over a few hundred states moves with the draw.
+11.3 against 18.6), and behind in 6 by 0.03-0.22 % of μN, all on the benchmark's pure ξ, η, (ξ, η)
+or φ (parabolic 20×20: pure ξ and η p95; elliptic 48×44: pure ξ, (ξ, η) and pure φ maxima, pure φ
+p95), where neither the blend nor the spin moment's flexibility act and the two differ only in the
+layout (strips here, a rectangle over the bounding box there; see the rectangle tried below). For 5
+of them the references' uncertainty (95 % half-width per case, median 0.09-0.16 % of μN) leaves the
+order open (a Monte Carlo over it, 2026-11-25: behind in 47-94 % of 2,000 draws); in every draw
+behind is the elliptic bound's pure φ maximum at 48×44, by 0.12 (8.28 against 8.16, a pure spin
+state at a/b = 5; the element-mean bound, below, closed the moment maximum at 20×20 and took the
+pure φ p95 at 48×44 from 0.06 to 0.03, within the uncertainty). On a second draw of the three
+held-out sets (``check.SECOND_DRAW``: 600, 600 and 300 states, seeds 20261201-03, drawn after the
+exponents were chosen; references and CONTACT's results computed as for the first) it is behind in
+none of the 48 figures. An earlier redraw with seed 20261125 for all three (not kept: the first
+draw's spin band has that seed) was behind in 5 of its 48, all maxima, by 0.17-1.53 (the random
+set's |F| max at 48×44 with both bounds, its Mz max with the elliptic bound at both grids, the
+parabolic spin band's |F| max at 20×20), every p95 ahead: the maximum over a few hundred states
+moves with the draw.
 
 The creep coefficients between the table's rows: CONTACT (``linrol``) interpolates Kalker's table
 linearly in b/a between its rows b/a = 0.1, 0.2, ..., which between a/b = 5 and 10, where the
@@ -139,16 +142,16 @@ coefficients, not this module's blend. Counted against that build, this module (
 behind in 17 of the 96 figures instead of 15.
 
 The spin moment's flexibility (``MOMENT_POWER``; this package's): with L3 in both spin terms,
-simplified theory's moment under pure spin in stick is Mz = -(8/15) a² b³ φ / L3 (Kalker 1979,
-eq 16 integrated over the ellipse; only the term -φy of the longitudinal slip contributes), an
-effective C33 = 32 C23 (b/a)^{3/2} / (15π): 0.88 C33 at a/b = 1, 0.56 at 5, 0.45 at 10
-(ν = 0.28). Kalker's rule for the flexibilities (1979, sec. 5: each fitted to a coefficient of
-linear theory) gives that term its own L4 = 8b/(15 G C33). The default blend uses L3^(1-q) L4^q
-for it, blended as L3 is (the slip law keeps L3). Near pure spin the parabolic bound's moment is
-too low (mean signed error -2 to -6 % of μN·c over a/b in the spin band, 20×20, q = 0; in full
-sliding its pressure's moment arm is shorter: μ∫ p_n r dA = 8/15 μNa against the Hertzian
-3π/16 μNa on a circle), the elliptic bound's too high (+2 to +11 %, growing with a/b). Parabolic bound,
-against CONTACT's FASTSIM on the figures q changes (p95 / max, 20×20 unless marked):
+simplified theory's moment under pure spin in stick is Mz = -(8/15) a² b³ φ / L3 (Kalker 1979, eq 16
+integrated over the ellipse; only the term -φy of the longitudinal slip contributes), an effective
+C33 = 32 C23 (b/a)^{3/2} / (15π): 0.88 C33 at a/b = 1, 0.56 at 5, 0.45 at 10 (ν = 0.28). Kalker's
+rule for the flexibilities (1979, sec. 5: each fitted to a coefficient of linear theory) gives that
+term its own L4 = 8b/(15 G C33). The default blend uses L3^(1-q) L4^q for it, blended as L3 is (the
+slip law keeps L3). Near pure spin the parabolic bound's moment is too low (mean signed error -2 to
+-6 % of μN·c over a/b in the spin band, 20×20, q = 0; in full sliding its pressure's moment arm is
+shorter: μ∫ p_n r dA = 8/15 μNa against the Hertzian 3π/16 μNa on a circle), the elliptic bound's
+too high (+2 to +11 %, growing with a/b). Parabolic bound, against CONTACT's FASTSIM on the figures
+q changes (p95 / max, 20×20 unless marked):
 
     q          bench pure φ   spin band |F|  spin band Mz   same, 48×44 |F|  48×44 Mz
     0          6.33/7.42      5.95/7.81      7.83/9.15      7.03/9.44        9.28/10.50
@@ -208,13 +211,13 @@ Traction bound g = μ p_n (option ``bound``):
 Discretisation (Kalker 1982's strip layout): the ellipse is cut into ``ny`` strips of equal width
 2b/ny with centres y_j = b(-1 + (2j+1)/ny); strip j has half-length a_j = a √(1 - y_j²/b²) and
 ``nx`` elements of length Δx_j = 2a_j/nx. Both schemes (option ``scheme``) march eq 38 from the
-leading edge (where p = 0) with the traction points and the traction bound at the element centres
-x_i = a_j - (i + ½) Δx_j (i = 0 .. nx-1; the bound is never evaluated on the edge, where it is 0);
-they differ in the length of the first step, from the leading edge to the first centre, and in
-where the spin term is sampled. Every step of length τ ends at its traction point x and
-integrates the rigid slip over [x, x + τ] (spin term at x + τ/2, exact, in "midpoint"). Forces
-are sums F = Σ p ΔA with ΔA = Δx_j · 2b/ny, the spin moment is Mz = Σ (x p_y - y p_x) ΔA
-(z-moment about the contact centre, same sign convention as linear theory).
+leading edge (where p = 0) with the traction points at the element centres x_i = a_j - (i + ½) Δx_j
+(i = 0 .. nx-1) and each element's traction bound the mean of μ p_n over it (the traction bound,
+below); they differ in the length of the first step, from the leading edge to the first centre, and
+in where the spin term is sampled. Every step of length τ ends at its traction point x and
+integrates the rigid slip over [x, x + τ] (spin term at x + τ/2, exact, in "midpoint"). Forces are
+sums F = Σ p ΔA with ΔA = Δx_j · 2b/ny, the spin moment is Mz = Σ (x p_y - y p_x) ΔA (z-moment about
+the contact centre, same sign convention as linear theory).
 
 ``"midpoint"`` — a half step Δx_j/2 to the first centre (its exact distance from the
     leading edge), then full steps. In full stick the traction is exactly linear (ξ, η) or
@@ -305,9 +308,27 @@ On CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is 
 of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" within 4.8 % (tests).
 "midpoint" remains the scheme whose FASTSIM solution converges fastest with the grid (O(n⁻²)).
 
-The discrete bound is scaled by a constant (depending on nx, ny and the bound only) so
-that Σ p_n ΔA = N exactly on the traction points; full sliding then gives |F| = μN at any grid.
-The correction is small (0.15 % at 20×20 parabolic, 0.5 % elliptic). CONTACT's FASTSIM takes the
+The traction bound of an element is the mean of μ p_n over it along its strip (exact: the
+pressure's primitive, ``_bound_profile``), not its value at the centre. The element's traction p
+stands for its mean traction (F = Σ p ΔA), and Coulomb's law |p(x)| <= μ p_n(x) at every point
+bounds the mean by the mean, |mean p| <= mean μ p_n. Both pressures are concave, so the centre
+value is larger and admits element means that no admissible traction has: in the element at either
+edge of a strip by 6 % with the Hertzian pressure (the mean over the last Δx of √(1 - u²) is 0.94
+times its centre value for any fine grid), 0.9 % (20×20) with the parabolic one. Summed over a
+strip the means give its load exactly; one constant k (depending on nx, ny and the bound only)
+corrects the midpoint rule across the strips so that Σ p_n ΔA = N; full sliding then gives |F| = μN
+at any grid. k - 1 is -0.03 % at 20×20 parabolic and -1/(2 ny² + 1) with the Hertzian pressure
+(-0.12 % at 20×20). Measured against the converged exact theory (2026-11-25, default options;
+before: the centre value with its own k) on the 72 figures per bound of docs/fastsim_vs_contact.md
+(benchmark and held-out sets, both draws, 20×20 and 48×44): with the elliptic bound 58 fall, by up
+to 0.62 % of μN (or μN·c), e.g. 20×20 pure φ 6.05 / 9.31 -> 5.83 / 9.03, benchmark Mz max 11.38 ->
+10.95, spin band Mz 16.30 / 20.47 -> 15.70 / 19.87, 48×44 pure φ 5.48 / 8.39 -> 5.45 / 8.28
+(CONTACT's 5.42 / 8.16), and 11 rise, by up to 0.20 (the hard region's Mz max, 13.85 -> 13.97 and
+on the second draw 19.19 -> 19.39; CONTACT's 15.89 and 22.04); with the parabolic bound, where the
+two differ little, 47 rise by up to 0.09 (spin band |F| max 7.66 -> 7.75) and 4 fall by up to 0.01;
+none of them comes behind CONTACT's. The comparisons of variants above and below (the exponents p
+and q, the spin sampling, the rectangle, the scheme table) were measured with the centre value; the
+first table above and the counts against CONTACT are with the mean. CONTACT's FASTSIM takes the
 pressure at its element centres as it is (CONTACT ``m_sdis.f90``, bounds B=2, 3): on the
 benchmark's pure ξ and η states its full-sliding force reaches 1.0023 μN (elliptic) and 1.0004 μN
 (parabolic) at 20×20, 1.0008 and 1.0001 μN at 48×44 (measured 2026-11-25).
@@ -366,7 +387,7 @@ _FX, _FY, _FPX, _FPY, _FG, _FSLIP, _FAREA = range(7)
 
 
 def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2: float,
-           k3: float, k3x: float, r21: float, g0: float,
+           k3: float, k3x: float, r21: float, g0: float, profile: Any,
            elliptic: bool, nx: int, ny: int, first: float, spin_at: float, do_x: bool,
            do_y: bool, do_mz: bool, saturate: bool,
            out: Any) -> tuple[float, float, float, float, float]:
@@ -376,7 +397,8 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2:
     ``k1, k2, k3`` = 1/L1, 1/L2, 1/L3 (Pa/m; the flexibilities of ξ, η and φ), ``k3x`` that of
     the spin term -φy of the longitudinal slip (Pa/m; module docstring), ``r21`` = Ly/Lx
     (the slip law's flexibilities, module docstring), ``g0`` = peak of the traction bound μ p_n
-    (Pa, incl. the discrete load normalisation). The traction points are the element centres
+    (Pa), ``profile`` its element means along a strip per unit peak (:func:`_bound_profile`,
+    incl. the discrete load normalisation). The traction points are the element centres
     x_i = a_j - (i + ½) Δx_j,
     i = 0..nx-1; ``first`` is the length of the first step (from the leading edge to the first
     centre) as a fraction of Δx_j (``SCHEMES``: 0.5 "midpoint", 1.0 "kalker"), the others are
@@ -395,17 +417,15 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2:
     mz = 0.0
     a_slip = 0.0
     a_tot = 0.0
-    inv_a2 = 1.0 / (a * a)
     nxf = float(nx)
-    nx2 = nxf * nxf
     for j in range(ny):
         y = b * (-1.0 + (2.0 * j + 1.0) / ny)
         s = 1.0 - (y / b) * (y / b)
         aj = a * math.sqrt(s) if s > 0.0 else 0.0
         hj = aj / nx                          # half element length
         dx = 2.0 * hj
-        hq = hj * hj * inv_a2
         da = dx * dy
+        gj = g0 * (math.sqrt(s) if elliptic else s) if s > 0.0 else 0.0  # the strip's peak
         wx = xi * k1 - phi * y * k3x         # dp_x/dx in stick (Kalker 1979, eq 37)
         px = 0.0
         py = 0.0
@@ -415,19 +435,13 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2:
         nslip = 0
         h = first * dx                        # first step: from the leading edge
         for i in range(nx):
-            # centre x = a_j - (i + ½) Δx_j = k h_j with the odd integer k = nx - 2i - 1, so
-            # 1 - x²/a² - y²/b² = (nx² - k²) h_j²/a² > 0 exactly
-            k = nxf - 2.0 * i - 1.0
-            x = k * hj
+            x = (nxf - 2.0 * i - 1.0) * hj   # the centre a_j - (i + ½) Δx_j
             if do_x:
                 px -= wx * h
             if do_y:
                 py -= (eta * k2 + phi * (x + spin_at * h) * k3) * h
             slip = False
-            g = 0.0
-            if saturate or out is not None:
-                q = (nx2 - k * k) * hq           # 1 - x²/a² - y²/b² at the centre
-                g = g0 * (math.sqrt(q) if elliptic else q)
+            g = gj * profile[i]
             if saturate:
                 n2 = px * px + py * py
                 if n2 > g * g:
@@ -557,21 +571,32 @@ def _kernels() -> tuple[Callable, Callable]:
 
 
 @cached(64)
-def _bound_normalisation(nx: int, ny: int, elliptic: bool) -> float:
-    """Factor k making the discrete pressure carry the load: k Σ p̂ ΔA = ∫ p̂ dA.
+def _bound_profile(nx: int, ny: int, elliptic: bool) -> np.ndarray:
+    """The traction bound of the ``nx`` elements of a strip per unit peak of the strip's pressure
+    (leading edge first): the pressure shape's mean over each element, exact, times the load
+    normalisation k of the grid (module docstring, the traction bound).
 
-    Computed on the unit circle (a = b = 1) at the element centres (both schemes): the sums scale
-    with ab like the integrals, so k depends on the grid and the pressure shape only.
-    ∫(1 - r²) dA = π/2, ∫√(1 - r²) dA = 2π/3.
+    Along a strip of half-length a_j the shape is 1 - x²/a_j² (parabolic) or √(1 - x²/a_j²)
+    (Hertz) times the strip's peak (1 - y_j²/b², or its root); with u = x/a_j the element from
+    u_{i+1} to u_i has the mean (P(u_i) - P(u_{i+1}))/(u_i - u_{i+1}) of the primitive
+    P(u) = u - u³/3, or (u √(1 - u²) + asin u)/2. Summed over a strip these means give its
+    integral exactly; k corrects the midpoint rule across the strips, k Σ p̂ ΔA = ∫ p̂ dA on the
+    unit circle (the sums scale with ab like the integrals, so k depends on the grid and the
+    shape only): ∫(1 - r²) dA = π/2, ∫√(1 - r²) dA = 2π/3.
     """
+    u = 1.0 - 2.0 * np.arange(nx + 1) / nx                # element edges, x/a_j
+    if elliptic:
+        prim = 0.5 * (u * np.sqrt(np.maximum(1.0 - u * u, 0.0)) + np.arcsin(u))
+    else:
+        prim = u - u ** 3 / 3.0
+    mean = (prim[:-1] - prim[1:]) * (nx / 2.0)           # element length 2/nx in u
     y = -1.0 + (2.0 * np.arange(ny) + 1.0) / ny
-    aj = np.sqrt(np.maximum(1.0 - y * y, 0.0))
-    k = nx - 2.0 * np.arange(nx) - 1.0                  # x / (a_j/nx) at the centres
-    q = np.maximum((aj[:, None] / nx) ** 2 * (nx * nx - k[None, :] ** 2), 0.0)
-    shape = np.sqrt(q) if elliptic else q
-    discrete = float(np.sum(shape * (2.0 * aj[:, None] / nx) * (2.0 / ny)))
+    s = np.maximum(1.0 - y * y, 0.0)
+    peak = np.sqrt(s) if elliptic else s
+    # Σ_j peak_j Σ_i mean_i (2 a_j/nx)(2/ny), with Σ_i mean_i 2/nx = ∫ shape du exactly
+    discrete = float(np.sum(peak * np.sqrt(s))) * (2.0 / ny) * float(np.sum(mean)) * (2.0 / nx)
     exact = 2.0 * math.pi / 3.0 if elliptic else math.pi / 2.0
-    return exact / discrete
+    return mean * (exact / discrete)
 
 
 @dataclass(frozen=True)
@@ -586,8 +611,9 @@ class FastsimFields:
     px, py : ndarray
         Tangential tractions of the rail on the wheel, Pa (same sign convention as the forces).
     bound : ndarray
-        Traction bound μ p_n at the traction points, Pa (incl. the discrete load
-        normalisation); with the ``saturation`` effect off it is reported but not applied.
+        Traction bound of each element, Pa: μ p_n averaged over the element along its strip
+        (incl. the discrete load normalisation); with the ``saturation`` effect off it is
+        reported but not applied.
     slip : ndarray of bool
         True where the element slips (|p| = bound), False where it sticks.
     area : ndarray
@@ -663,10 +689,10 @@ class Fastsim(ContactMethod):
                               else 0.0)
         self._first, self._spin_at = SCHEMES[o["scheme"]]
         self._fields = bool(self.options["fields"])
-        # Peak of p_n per unit N/(ab): 2/π (parabolic) or 3/(2π) (Hertz), times the load
-        # normalisation of the discrete grid.
-        peak = 1.5 / math.pi if self._elliptic else 2.0 / math.pi
-        self._g_factor = peak * _bound_normalisation(self._nx, self._ny, self._elliptic)
+        # Peak of p_n per unit N/(ab): 2/π (parabolic) or 3/(2π) (Hertz); the elements' share
+        # of it (with the load normalisation of the discrete grid) in the profile.
+        self._g_factor = 1.5 / math.pi if self._elliptic else 2.0 / math.pi
+        self._profile = _bound_profile(self._nx, self._ny, self._elliptic)
         eff = self.effects
         self._do_x = bool(eff.longitudinal or eff.spin)
         self._do_y = bool(eff.lateral or eff.spin)
@@ -689,7 +715,7 @@ class Fastsim(ContactMethod):
         nx, ny = self._nx, self._ny
         out = np.empty((7, ny, nx)) if self._fields else None
         fx, fy, mz, a_slip, a_tot = self._kern(
-            a, b, xi, eta, phi, k1, k2, k3, k3x, r21, g0, self._elliptic, nx, ny,
+            a, b, xi, eta, phi, k1, k2, k3, k3x, r21, g0, self._profile, self._elliptic, nx, ny,
             self._first, self._spin_at,
             self._do_x, self._do_y, self._do_mz, self._saturate, out)
         eff = self.effects

@@ -559,6 +559,40 @@ def test_kalker_scheme_fields_at_centres(bound):
     assert np.all(f.bound > 0)
 
 
+@pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
+@pytest.mark.parametrize("nx, ny", [(7, 5), (20, 20)])
+def test_bound_is_the_pressure_mean_over_each_element(bound, nx, ny):
+    """Coulomb's law for an element's mean traction, |mean p| <= mean μ p_n: each element's bound
+    is μ p_n averaged over the element along its strip (scipy's quadrature of the pressure of
+    Kalker 1979 fig. 4 or Hertz's), up to one load factor k for the whole grid, with the load
+    carried exactly (Σ bound ΔA = μN)."""
+    from scipy.integrate import quad
+    r = fs(2e-3, nx=nx, ny=ny, bound=bound, fields=True)
+    f = r.fields
+    if bound == "elliptic":
+        p0, shape = 3 * N / (2 * math.pi * A * B), lambda q: math.sqrt(max(q, 0.0))
+    else:
+        p0, shape = 2 * N / (math.pi * A * B), lambda q: max(q, 0.0)
+    ratio = np.empty((ny, nx))
+    for j in range(ny):
+        y = f.y[j, 0]
+        dx = f.area[j, 0] / (2 * B / ny)
+        for i in range(nx):
+            x = f.x[j, i]
+            mean = quad(lambda t: shape(1 - t * t / A**2 - y * y / B**2), x - dx / 2, x + dx / 2,
+                        epsabs=0, epsrel=1e-12)[0] / dx
+            ratio[j, i] = f.bound[j, i] / (MU * p0 * mean)
+    k = ratio.mean()
+    assert ratio == pytest.approx(k, rel=1e-9)
+    # k corrects the midpoint rule across the strips. Hertz: a strip carries ∝ 1 - y_j²/b², whose
+    # midpoint sum over ny strips is 4/3 + 2/(3 ny²) against the integral 4/3.
+    if bound == "elliptic":
+        assert k == pytest.approx(1 / (1 + 1 / (2 * ny**2)), rel=1e-9)
+    else:
+        assert 0 < 1 - k < 1 / ny**2
+    assert (f.bound * f.area).sum() == pytest.approx(MU * N, rel=1e-12)
+
+
 def test_fields_off_by_default():
     assert fs(1e-3).fields is None
 
