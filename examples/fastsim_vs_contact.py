@@ -42,9 +42,8 @@ import contact_core as cc
 from contact_core.bench.cases import make_cases
 from contact_core.bench.reference import REFERENCE_GRIDS, compute_references
 from contact_core.bench.report import errors as bench_errors
-from contact_core.table.check import GRIDS as CHECK_GRIDS
-from contact_core.table.check import (KEPT, errors as check_errors, held_out_sets, references,
-                                      result_errors, second_draw)
+from contact_core.table.check import (GRIDS as CHECK_GRIDS, KEPT, errors as check_errors,
+                                      held_out_sets, references, result_errors, second_draw)
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "contact_fastsim_sets.csv"
 INPUTS = ("a", "b", "G", "nu", "mu", "N", "xi", "eta", "phi")

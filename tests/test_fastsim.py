@@ -426,7 +426,8 @@ def test_with_spin_and_creepage_fastsim_is_not_behind_contacts_fastsim(bound, nx
     # CONTACT's FASTSIM (M=3) on the same number of elements. The default here is not behind
     # CONTACT's in p95 or maximum on any of them (the share's exponent and the spin moment's
     # flexibility per bound, contact_core.fastsim). Where CONTACT's is lower
-    # (docs/fastsim_vs_contact.md): pure ξ, η and φ, where the two differ only in the layout.
+    # (docs/fastsim_vs_contact.md): pure ξ, η, (ξ, η) and pure φ, where the two differ only in
+    # the layout.
     from contact_core.table.check import result_errors
     refs = _exact_references()
     key = f"{bound}_{nx}x{ny}"
