@@ -279,18 +279,17 @@ against 4.16/13.48, behind CONTACT's 4.55 there (ahead on the spin band, 9.41/12
 11.22/12.14, and in Mz p95 on the random set and the spin band; measured 2026-11-25 with the
 share's exponent 1/3). At 48×44 it is behind CONTACT on pure ξ (4.80/6.02 against 4.36/4.63).
 
-For pure spin the limit is simplified theory itself, not the grid: at zero element size
-("midpoint" on 200×200 and 400×400 extrapolated at first order, flexibility "separate") it is 7.3 /
-8.8 off with the parabolic bound and 5.6 / 8.3 with the elliptic one on the benchmark's pure-spin
-cases (the 77 of 80 whose reference converged: the exact solver fitted over 40²…80² grids; measured
-2026-11-25; "midpoint" on 100×100, taken for converged on 2026-11-24, gives 7.8 / 9.3 and 5.3 /
-8.2). A coarse grid comes closer only where its own error
-happens to cancel part of it: on a uniform grid over the ellipse's bounding box, as CONTACT
-discretises its potential contact (the elements whose centre lies inside the ellipse carry
-traction), parabolic bound, 20×20 is 4.9 / 8.6 off and 40×40 5.9 / 7.1, converging at first
-order to the same solution (160×160: 6.9 / 8.4, within 1.2 % of μN of "midpoint" on 160×160
-strips); but for pure ξ that grid is 1.4 / 2.6 (20×20) and 2.4 / 3.4 (40×40) off. (For pure
-spin the slip law here is CONTACT's: its FASTSIM scales the stick traction radially onto the
+For pure spin the limit is simplified theory itself, not the grid: at zero element size ("midpoint"
+on 200×200 and 400×400 extrapolated at first order, flexibility "separate") it is 7.3 / 8.8 off with
+the parabolic bound and 5.6 / 8.3 with the elliptic one on the benchmark's pure-spin cases (the 77
+of 80 whose reference converged: the exact solver fitted over 40²…80² grids; measured 2026-11-25;
+"midpoint" on 100×100, taken for converged on 2026-11-24, gives 7.8 / 9.3 and 5.3 / 8.2). A coarse
+grid comes closer only where its own error happens to cancel part of it: on a uniform grid over the
+ellipse's bounding box, as CONTACT discretises its potential contact (the elements whose centre lies
+inside the ellipse carry traction), parabolic bound, 20×20 is 4.9 / 8.6 off and 40×40 5.9 / 7.1,
+converging at first order to the same solution (160×160: 6.9 / 8.4, within 1.2 % of μN of "midpoint"
+on 160×160 strips); but for pure ξ that grid is 1.4 / 2.6 (20×20) and 2.4 / 3.4 (40×40) off. (For
+pure spin the slip law here is CONTACT's: its FASTSIM scales the stick traction radially onto the
 bound; projecting along diag(L1, L2) instead is worse, parabolic 11.2 / 11.9.)
 Tried and not kept: that rectangular grid as a layout option, with this module's current scheme
 and flexibilities (measured 2026-11-25 on the benchmark's 400 cases, 20×20, beside CONTACT's
@@ -312,9 +311,10 @@ creepage rose, 13.5 -> 15.0 % of μN with the parabolic bound, and it was set as
 On CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is within 1.9 %
 of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" within 4.8 % (tests).
 "midpoint" remains the scheme whose FASTSIM solution converges fastest with the grid: O(n⁻²) in
-stick and for pure ξ or η, first order in partial slip with spin or under (ξ, η) (benchmark, |F|
-moving by at most 0.74, 0.39 and 0.19 % of μN from 50×50 to 100×100, 200×200 and 400×400 with
-spin; 0.024, 0.006, 0.001 for pure ξ, parabolic bound; measured 2026-11-25).
+stick and, with the parabolic bound, for pure ξ or η; first order in partial slip with spin or
+under (ξ, η) (benchmark, |F| moving by at most 0.74, 0.39 and 0.19 % of μN from 50×50 to 100×100,
+200×200 and 400×400 with spin; for pure ξ 0.024, 0.006, 0.001 with the parabolic bound, 0.065,
+0.024, 0.009 with the elliptic one; measured 2026-11-25).
 
 The traction bound of an element is the mean of μ p_n over it along its strip (exact: the
 pressure's primitive, ``_bound_profile``), not its value at the centre. The element's traction p
