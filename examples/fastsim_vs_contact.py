@@ -12,8 +12,9 @@ FASTSIM on the same number of elements (``nx`` × ``ny`` = CONTACT's MX × MY; s
 rectangle over the ellipse's bounding box there) and writes p95 / max of both errors per series,
 bound and grid to ``docs/fastsim_vs_contact.md``, counting the figures behind CONTACT's per draw,
 and the same figures for simplified theory itself: FASTSIM with the same options at zero element
-size (``LIMIT_GRIDS``). A figure of either program below that limit is first-order grid error
-cancelling part of the theory's.
+size (``LIMIT_GRIDS``; its 24,800 solves on 200×200 and 400×400 take most of the script's
+3-4 minutes). A figure of either program below that limit is first-order grid error cancelling
+part of the theory's.
 
 Errors, in % of μN (forces) and of μN·c (Mz, c = √(ab)), against the references of the two
 reports: on the benchmark the error of |F| (``contact_core.bench.report.errors``; its reference
