@@ -46,8 +46,8 @@ import contact_core as cc
 from contact_core.bench.cases import make_cases
 from contact_core.bench.reference import REFERENCE_GRIDS, compute_references
 from contact_core.bench.report import errors as bench_errors
-from contact_core.table.check import (GRIDS as CHECK_GRIDS, KEPT, errors as check_errors,
-                                      held_out_sets, references, result_errors, second_draw)
+from contact_core.table.check import (GRIDS as CHECK_GRIDS, KEPT, held_out_sets, references,
+                                      result_errors, second_draw)
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "contact_fastsim_sets.csv"
 INPUTS = ("a", "b", "G", "nu", "mu", "N", "xi", "eta", "phi")
@@ -97,13 +97,32 @@ def held_series(title: str) -> tuple[str, str]:
     return f"{title.lower()}, \\|F\\|", f"{title.lower()}, Mz"
 
 
+def fastsim(states: list[dict[str, float]], **options) -> np.ndarray:
+    """(Fx, Fy, Mz) of this package's FASTSIM with ``options`` per state."""
+    return np.array([[r.Fx, r.Fy, r.Mz] for r in (cc.solve("fastsim", **k, **options)
+                                                   for k in states)])
+
+
 def grid_limit(states: list[dict[str, float]], bound: str, options: dict) -> np.ndarray:
     """(Fx, Fy, Mz) of FASTSIM with ``options`` at zero element size (``LIMIT_GRIDS``)."""
     n, n2 = LIMIT_GRIDS
-    r, r2 = (np.array([[x.Fx, x.Fy, x.Mz] for x in (
-        cc.solve("fastsim", **k, bound=bound, **{**options, "scheme": "midpoint", "nx": m,
-                                                "ny": m}) for k in states)]) for m in (n, n2))
+    r, r2 = (fastsim(states, bound=bound, **{**options, "scheme": "midpoint", "nx": m, "ny": m})
+             for m in (n, n2))
     return r2 + (r2 - r) * n / (n2 - n)
+
+
+def series_cells(bench, refs, bench_res: np.ndarray, held, held_refs,
+                 held_res: list[np.ndarray]) -> dict[str, tuple[float, float]]:
+    """p95 / max per series of one program's results on the benchmark (``bench_res``, its cases
+    in order) and on the held-out sets (``held_res``, one array per set of ``held``)."""
+    kind = np.array([c.kind for c in bench])
+    eF, eM = bench_errors(bench, refs, bench_res)
+    cells = {f"benchmark, {title}": cell(100 * eF[kind == k]) for k, title in KINDS}
+    cells["benchmark, Mz (all but pure ξ)"] = cell(100 * eM)
+    for (_, title, cases, _), ref, res in zip(held, held_refs, held_res):
+        f_key, m_key = held_series(title)
+        cells[f_key], cells[m_key] = (cell(e) for e in result_errors(cases, ref, res))
+    return cells
 
 
 def export_references(path: Path, refs, held, held_refs) -> None:
@@ -147,11 +166,11 @@ def main() -> None:
     contact = read_contact()
 
     bench = make_cases("full")
-    same_states("bench", contact["bench"][0], [c.solve_kwargs() for c in bench])
+    states = [c.solve_kwargs() for c in bench]
+    same_states("bench", contact["bench"][0], states)
     refs = compute_references(bench, REFERENCE_GRIDS["full"],
                               jobs=a.workers or os.cpu_count() or 1, scheduler=a.scheduler,
                               cache="build/bench_reference")
-    kind = np.array([c.kind for c in bench])
     second = second_draw()
     second_names = {name for name, *_ in second}
     held = held_out_sets() + second
@@ -164,38 +183,22 @@ def main() -> None:
 
     # per (mx, my, bound): {series: (ours (p95, max), CONTACT's (p95, max))}
     per_grid: dict[tuple[int, int, str], dict[str, tuple]] = {}
-    second_series: set[str] = set()                 # the series of the second draw
     for mx, my in GRIDS:
         for bound in BOUNDS:
             key = f"{bound}_{mx}x{my}"
-            ours = np.array([[r.Fx, r.Fy, r.Mz] for r in (
-                cc.solve("fastsim", **c.solve_kwargs(), nx=mx, ny=my, bound=bound, **options)
-                for c in bench)])
-            eo, ec = bench_errors(bench, refs, ours), bench_errors(bench, refs,
-                                                                   contact["bench"][1][key])
-            cells = {f"benchmark, {title}": (cell(100 * eo[0][kind == k]),
-                                             cell(100 * ec[0][kind == k])) for k, title in KINDS}
-            cells["benchmark, Mz (all but pure ξ)"] = (cell(100 * eo[1]), cell(100 * ec[1]))
-            for (name, title, cases, _), ref in zip(held, held_refs):
-                fo, mo = check_errors(cases, ref, "fastsim", nx=mx, ny=my, bound=bound, **options)
-                fc, mc = result_errors(cases, ref, contact[name][1][key])
-                f_key, m_key = held_series(title)
-                cells[f_key], cells[m_key] = (cell(fo), cell(fc)), (cell(mo), cell(mc))
-                if name in second_names:
-                    second_series.update((f_key, m_key))
-            per_grid[(mx, my, bound)] = cells
+            opts = dict(nx=mx, ny=my, bound=bound, **options)
+            ours = series_cells(bench, refs, fastsim(states, **opts), held, held_refs,
+                                [fastsim(cases, **opts) for _, _, cases, _ in held])
+            theirs = series_cells(bench, refs, contact["bench"][1][key], held, held_refs,
+                                  [contact[name][1][key] for name, *_ in held])
+            per_grid[(mx, my, bound)] = {s: (ours[s], theirs[s]) for s in ours}
+    second_series = {k for name, title, *_ in held if name in second_names
+                     for k in held_series(title)}
     # simplified theory's own error per (bound, series): p95 / max at zero element size
-    limit: dict[str, dict[str, tuple[float, float]]] = {}
-    for bound in BOUNDS:
-        eo = bench_errors(bench, refs, grid_limit([c.solve_kwargs() for c in bench], bound,
-                                                  options))
-        cells = {f"benchmark, {title}": cell(100 * eo[0][kind == k]) for k, title in KINDS}
-        cells["benchmark, Mz (all but pure ξ)"] = cell(100 * eo[1])
-        for (_, title, cases, _), ref in zip(held, held_refs):
-            fo, mo = result_errors(cases, ref, grid_limit(cases, bound, options))
-            f_key, m_key = held_series(title)
-            cells[f_key], cells[m_key] = cell(fo), cell(mo)
-        limit[bound] = cells
+    limit = {bound: series_cells(bench, refs, grid_limit(states, bound, options), held,
+                                 held_refs, [grid_limit(cases, bound, options)
+                                             for _, _, cases, _ in held])
+             for bound in BOUNDS}
     series = list(next(iter(per_grid.values())))
     behind = []
     lines = ["# FASTSIM against CONTACT's FASTSIM", "",
