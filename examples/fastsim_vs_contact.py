@@ -18,7 +18,8 @@ part of the theory's.
 
 Errors, in % of μN (forces) and of μN·c (Mz, c = √(ab)), against the references of the two
 reports: on the benchmark the error of |F| (``contact_core.bench.report.errors``; its reference
-kept in ``build/bench_reference`` by ``python -m contact_core.bench --full``), on the held-out
+as ``python -m contact_core.bench --full`` computes it, with two finer grids,
+``BENCH_REFERENCE_GRIDS``, kept in ``build/bench_reference``), on the held-out
 sets the vector error of (Fx, Fy) (``contact_core.table.check.errors``; references kept in
 ``build/table_check_reference`` by ``python -m contact_core.table check``; both are computed again
 when the exact solver changes). Missing references are computed (hours on
@@ -58,6 +59,11 @@ GRIDS = ((20, 20), (48, 44))
 #: 50 to 100, 200 and 400; the "kalker" scheme extrapolates to the same forces within 0.02 %.
 LIMIT_GRIDS = (200, 400)
 BOUNDS = ("parabolic", "elliptic")
+#: the benchmark's reference grids: the full form's and two finer ones. The gaps between the two
+#: programs are a few tenths of % of μN, the full form's references' 95 % half-width per case
+#: (median 0.09-0.16 % of μN by series) about as large; with 128² and 160² it halves (0.04-0.09)
+#: and the references move by at most 0.06 % (0.17 under pure spin).
+BENCH_REFERENCE_GRIDS = REFERENCE_GRIDS["full"] + (128, 160)
 #: the benchmark's series (its case kinds), in the order of the report
 KINDS = (("longitudinal", "pure ξ"), ("lateral", "pure η"), ("creepage", "ξ and η"),
          ("spin", "pure φ"), ("combined", "spin with creepage"))
@@ -132,15 +138,15 @@ def export_references(path: Path, refs, held, held_refs) -> None:
         "The converged exact theory (contact_core's exact solver, Kalker's half-space boundary "
         "elements, solved on several square grids, each alone, and fitted to q(m) = q_inf + C/m) "
         "on the states of contact_fastsim_sets.csv (same set and id). set 'bench': grids "
-        f"{', '.join(map(str, REFERENCE_GRIDS['full']))} (contact_core.bench.reference), "
+        f"{', '.join(map(str, BENCH_REFERENCE_GRIDS))} (contact_core.bench.reference), "
         "F = |(Fx, Fy)| only, converged = 0 where a solve did not converge or the fit's "
         "uncertainty exceeds 0.5 % of mu N (of mu N c for Mz; such cases are left out of the "
         "statistics); the held-out sets and their second draw (sets with the suffix 2): grids "
         f"{', '.join(map(str, CHECK_GRIDS))} "
         "(contact_core.table.check.references), Fx, Fy, Mz. SI units (N, N m), Kalker's sign "
         "convention. Written by python examples/fastsim_vs_contact.py --export-references FILE "
-        "from the references kept by python -m contact_core.bench --full and python -m "
-        "contact_core.table check.")
+        "from the references it keeps (the benchmark's, contact_core.bench.reference) and the "
+        "ones kept by python -m contact_core.table check.")
     lines = textwrap.wrap(header, 90, initial_indent="# ", subsequent_indent="# ",
                           break_on_hyphens=False)
     lines.append("set,id,Fx,Fy,F,Mz,converged")
@@ -168,7 +174,7 @@ def main() -> None:
     bench = make_cases("full")
     states = [c.solve_kwargs() for c in bench]
     same_states("bench", contact["bench"][0], states)
-    refs = compute_references(bench, REFERENCE_GRIDS["full"],
+    refs = compute_references(bench, BENCH_REFERENCE_GRIDS,
                               jobs=a.workers or os.cpu_count() or 1, scheduler=a.scheduler,
                               cache="build/bench_reference")
     second = second_draw()
