@@ -19,11 +19,11 @@ part of the theory's.
 Errors, in % of μN (forces) and of μN·c (Mz, c = √(ab)), against the references of the two
 reports: on the benchmark the error of |F| (``contact_core.bench.report.errors``; its reference
 as ``python -m contact_core.bench --full`` computes it, with two finer grids,
-``BENCH_REFERENCE_GRIDS``, kept in ``build/bench_reference``), on the held-out
-sets the vector error of (Fx, Fy) (``contact_core.table.check.errors``; references kept in
+``BENCH_REFERENCE_GRIDS``, kept in ``build/bench_reference``), on the held-out sets the vector
+error of (Fx, Fy) (``contact_core.table.check.errors``; references kept in
 ``build/table_check_reference`` by ``python -m contact_core.table check``; both are computed again
-when the exact solver changes). Missing references are computed (hours on
-two cores; ``--workers``, ``--scheduler`` as in those commands).
+when the exact solver changes). Missing references are computed (hours on two cores;
+``--workers``, ``--scheduler`` as in those commands).
 
     python examples/fastsim_vs_contact.py [--options '{"scheme": "midpoint"}']
 
@@ -61,8 +61,9 @@ LIMIT_GRIDS = (200, 400)
 BOUNDS = ("parabolic", "elliptic")
 #: the benchmark's reference grids: the full form's and two finer ones. The gaps between the two
 #: programs are a few tenths of % of μN, the full form's references' 95 % half-width per case
-#: (median 0.09-0.16 % of μN by series) about as large; with 128² and 160² it halves (0.04-0.09)
-#: and the references move by at most 0.06 % (0.17 under pure spin).
+#: (median 0.09-0.16 % of μN by series) about as large; with 128² and 160² it halves (0.04-0.09),
+#: the references move by at most 0.06 % without spin (0.10-0.17 with it), and the 3 pure-spin
+#: cases left out before for their uncertainty are in (measured 2026-11-25).
 BENCH_REFERENCE_GRIDS = REFERENCE_GRIDS["full"] + (128, 160)
 #: the benchmark's series (its case kinds), in the order of the report
 KINDS = (("longitudinal", "pure ξ"), ("lateral", "pure η"), ("creepage", "ξ and η"),
