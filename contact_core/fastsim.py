@@ -309,7 +309,10 @@ creepage it comes within 0.2 % of μN of CONTACT's results, not to them: the fle
 differ by up to 0.1 % (ours/CONTACT's linear-range force 1.0011 at a/b = 0.2, 1.00006 at 5).
 Both take the creep coefficients from Kalker's table (Kalker 1990, table E.3), at ν = 0.28
 between its columns ν = 0.25 and 0.5: CONTACT interpolates 1/C quadratically in ν, this package
-ln C (``coefficients``).
+ln C (``coefficients``). Between the two, strips of equal element length (n_j = round(nx a_j/a)
+elements on strip j, from its own leading edge; measured 2026-11-25 on the benchmark's pure ξ and
+η, "kalker", the report's references): parabolic 20×20 p95 1.79 and 1.87 (strips 1.51 and 1.54,
+CONTACT 1.43 and 1.39), elliptic 48×44 pure ξ max 4.66 (4.86, 4.62); not kept either.
 (L4 alone for the spin term of the longitudinal slip, q = 1, was first tried on 2026-11-24,
 before the blend, with the spin sampled at the step's midpoint: the maximum with spin and
 creepage rose, 13.5 -> 15.0 % of μN with the parabolic bound, and it was set aside.)
