@@ -122,8 +122,8 @@ against 4.67, both at a/b = 0.2 near full sliding, where simplified theory's for
 the exact one and this module's grid error makes up 1.2 of it, CONTACT's 1.5 (at a/b = 5 in
 partial slip, where the theory is 3.1-3.3 above, the same grid errors put CONTACT's further off,
 4.6-4.7 against 4.3-4.4); the pure φ maximum there is a pure spin state at a/b = 5, 8.25 against
-8.13 (the theory 8.23) (the element-mean bound, below, closed the moment maximum at 20×20
-and took the pure φ p95 at 48×44 from 0.06 to 0.03). On a second draw of the three held-out sets
+8.13, the theory 8.23 (the element-mean bound, below, closed the moment maximum at 20×20 and
+took the pure φ p95 at 48×44 from 0.06 to 0.03). On a second draw of the three held-out sets
 (``check.SECOND_DRAW``: 600, 600 and 300 states, seeds 20261201-03, drawn after the exponents were
 chosen; references and CONTACT's results computed as for the first) it is behind in none of the 48
 figures. An earlier redraw with seed 20261125 for all three (not kept: the first draw's spin band
