@@ -158,16 +158,36 @@ def test_pythonfmu_binary_fallback(tmp_path):
     assert refused and any("E=-1.0 is out of range" in m for m in errors)
 
 
-def test_simulate_in_a_thread_pool_host(fmus):
+def test_simulate_in_a_thread_pool_host(fmus, tmp_path):
     """fmpy.simulate_fmu from worker threads (as hosts with thread pools call FMUs): each
-    instance is driven from its own thread; the interpreter lock is taken per call."""
+    instance is loaded, driven and freed by its own worker thread; the interpreter lock is taken
+    per call, and the process's working directory is left as it was.
+
+    Loading is serialised by a lock: fmpy's FMU constructor changes the process's working
+    directory to the binaries folder around ``dlopen`` and back, so two threads loading at once
+    can leave the process in another FMU's (since removed) folder (fmpy 0.3, CATIA-Systems/FMPy
+    issue 363). The FMU itself never changes it (FMI 3.0 standard, section 2.2.1)."""
+    import threading
     from concurrent.futures import ThreadPoolExecutor
+
+    from fmpy import extract, instantiate_fmu
+    unzipdir = extract(str(fmus["traction"]), unzipdir=str(tmp_path / "traction"))
+    md = read_model_description(unzipdir)
     start = {"N": 1e5, "xi": 1e-3}
+    loading = threading.Lock()
+    cwd = os.getcwd()
 
     def one(_):
-        return simulate_fmu(str(fmus["traction"]), stop_time=5e-3, output_interval=1e-3,
-                            start_values=start)["Fx"][-1]
+        with loading:
+            fmu = instantiate_fmu(unzipdir, md, "CoSimulation")
+        try:
+            return simulate_fmu(unzipdir, model_description=md, fmu_instance=fmu,
+                                stop_time=5e-3, output_interval=1e-3,
+                                start_values=start)["Fx"][-1]
+        finally:
+            fmu.freeInstance()
 
     with ThreadPoolExecutor(4) as pool:
         results = list(pool.map(one, range(8)))
+    assert os.getcwd() == cwd
     assert set(results) == {solve("johnson_vermeulen", "traction", xi=1e-3).Fx}
