@@ -163,10 +163,11 @@ def test_simulate_in_a_thread_pool_host(fmus, tmp_path):
     instance is loaded, driven and freed by its own worker thread; the interpreter lock is taken
     per call, and the process's working directory is left as it was.
 
-    Loading is serialised by a lock: fmpy's FMU constructor changes the process's working
-    directory to the binaries folder around ``dlopen`` and back, so two threads loading at once
-    can leave the process in another FMU's (since removed) folder (fmpy 0.3, CATIA-Systems/FMPy
-    issue 363). The FMU itself never changes it (FMI 3.0 standard, section 2.2.1)."""
+    Loading is serialised by a lock: fmpy's FMU constructor (``_FMU.__init__`` in fmpy/fmi1.py,
+    fmpy 0.3) changes the process's working directory to the binaries folder around ``dlopen``
+    and back, so two threads loading at once can leave the process in another FMU's (since
+    removed) folder (this test without the lock, each thread extracting its own copy, failed 1 run
+    in 8). This FMU's own code never changes it."""
     import threading
     from concurrent.futures import ThreadPoolExecutor
 
