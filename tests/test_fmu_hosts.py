@@ -158,7 +158,7 @@ def test_pythonfmu_binary_fallback(tmp_path):
     assert refused and any("E=-1.0 is out of range" in m for m in errors)
 
 
-def test_simulate_in_a_thread_pool_host(fmus, tmp_path):
+def test_simulate_in_a_thread_pool_host(fmus):
     """fmpy.simulate_fmu from worker threads (as hosts with thread pools call FMUs): each
     instance is loaded, driven and freed by its own worker thread; the interpreter lock is taken
     per call, and the process's working directory is left as it was.
@@ -171,8 +171,10 @@ def test_simulate_in_a_thread_pool_host(fmus, tmp_path):
     import threading
     from concurrent.futures import ThreadPoolExecutor
 
-    from fmpy import extract, instantiate_fmu
-    unzipdir = extract(str(fmus["traction"]), unzipdir=str(tmp_path / "traction"))
+    from fmpy import instantiate_fmu
+
+    from wheel_rail_fmu.host import unzipped
+    unzipdir = unzipped(fmus["traction"])
     md = read_model_description(unzipdir)
     start = {"N": 1e5, "xi": 1e-3}
     loading = threading.Lock()
