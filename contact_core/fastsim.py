@@ -321,8 +321,8 @@ Not reached by a weighting either: simplified theory's own error under creepage 
 where four of the six gaps to CONTACT's FASTSIM above lie. Under pure ξ (η) FASTSIM's force
 depends on ξ/L1 (η/L2) alone, the same function of ψ = G c² C11 |ξ| / (μN) (C22 |η|; linear
 theory's force over μN, Kalker 1979, eq 17) for every a/b (elliptic bound, "midpoint" 200×200:
-0.0996, 0.4548, 0.8660, 0.9275 μN at ψ = 0.1, 0.5, 1.5, 2 for a/b = 0.2, 1 and 5), while the exact theory's differs with a/b (0.9869 and 0.9732 μN at
-ψ = 2, a/b = 0.2 and 5). The flexibility L1 h(ψ) that puts FASTSIM on the exact force at each ψ
+0.0996, 0.4548, 0.8660, 0.9275 μN at ψ = 0.1, 0.5, 1.5, 2 for a/b = 0.2, 1 and 5), while the
+exact theory's differs with a/b (0.9869 and 0.9732 μN at ψ = 2, a/b = 0.2 and 5). The flexibility L1 h(ψ) that puts FASTSIM on the exact force at each ψ
 (a/b 0.1-10, ν = 0.28, pure ξ and pure η, the exact theory as the table method gives it, within
 0.35 % of μN of the exact solver on 80×80 extrapolated at a/b 0.2, 1 and 5; measured 2026-11-26):
 with the parabolic bound a steady stiffening, h = 0.97-0.98 at ψ = 0.5, 0.92-0.97 at 1,
