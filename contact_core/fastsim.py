@@ -317,22 +317,22 @@ CONTACT 1.43 and 1.39), elliptic 48×44 pure ξ max 4.66 (4.86, 4.62); not kept 
 before the blend, with the spin sampled at the step's midpoint: the maximum with spin and
 creepage rose, 13.5 -> 15.0 % of μN with the parabolic bound, and it was set aside.)
 
-Not reached by a weighting either: simplified theory's own error under creepage without spin,
-where four of the six gaps to CONTACT's FASTSIM above lie. Under pure ξ (η) FASTSIM's force
-depends on ξ/L1 (η/L2) alone, the same function of ψ = G c² C11 |ξ| / (μN) (C22 |η|; linear
-theory's force over μN, Kalker 1979, eq 17) for every a/b (elliptic bound, "midpoint" 200×200:
-0.0996, 0.4548, 0.8660, 0.9275 μN at ψ = 0.1, 0.5, 1.5, 2 for a/b = 0.2, 1 and 5), while the
-exact theory's differs with a/b (0.9869 and 0.9732 μN at ψ = 2, a/b = 0.2 and 5). The flexibility L1 h(ψ) that puts FASTSIM on the exact force at each ψ
-(a/b 0.1-10, ν = 0.28, pure ξ and pure η, the exact theory as the table method gives it, within
-0.35 % of μN of the exact solver on 80×80 extrapolated at a/b 0.2, 1 and 5; measured 2026-11-26):
-with the parabolic bound a steady stiffening, h = 0.97-0.98 at ψ = 0.5, 0.92-0.97 at 1,
-0.81-0.92 at 2; with the elliptic bound 1.07-1.08 at ψ = 0.5 but 0.50-0.69 at 2 and 0.15-0.33 at
-2.5, its force being too high before ψ ≈ 1 (+2.0 to +3.3 % of μN at ψ = 0.75) and reaching μN
-only asymptotically (-4.4 to -6.1 at ψ = 2). For the elliptic bound that is a fit of the creep
-curve's shape per a/b, not a weighting of Kalker's flexibilities; with the parabolic bound a
+Not reached by a weighting either: simplified theory's own error under creepage without spin, where
+four of the six gaps to CONTACT's FASTSIM above lie. Under pure ξ (η) FASTSIM's force depends on
+ξ/L1 (η/L2) alone, the same function of ψ = G c² C11 |ξ| / (μN) (C22 |η|; linear theory's force over
+μN, Kalker 1979, eq 17) for every a/b (elliptic bound, "midpoint" 200×200: 0.0996, 0.4548, 0.8660,
+0.9275 μN at ψ = 0.1, 0.5, 1.5, 2 for a/b = 0.2, 1 and 5), while the exact theory's differs with a/b
+(0.9869 and 0.9732 μN at ψ = 2, a/b = 0.2 and 5). The flexibility L1 h(ψ) that puts FASTSIM on the
+exact force at each ψ (a/b 0.1-10, ν = 0.28, pure ξ and pure η, the exact theory as the table method
+gives it, within 0.35 % of μN of the exact solver on 80×80 extrapolated at a/b 0.2, 1 and 5;
+measured 2026-11-26): with the parabolic bound a steady stiffening, h = 0.97-0.98 at ψ = 0.5,
+0.92-0.97 at 1, 0.81-0.92 at 2; with the elliptic bound 1.07-1.08 at ψ = 0.5 but 0.50-0.69 at 2 and
+0.15-0.33 at 2.5, its force being too high before ψ ≈ 1 (+2.0 to +3.3 % of μN at ψ = 0.75) and
+reaching μN only asymptotically (-4.4 to -6.1 at ψ = 2). For the elliptic bound that is a fit of the
+creep curve's shape per a/b, not a weighting of Kalker's flexibilities; with the parabolic bound a
 stiffening that removed the theory's error would leave "kalker"'s first-order excess (+1/nx in
-stick) as the whole error at 20×20. What separates the two programs on pure creepage is each
-grid's error.
+stick) as the whole error at 20×20. What separates the two programs on pure creepage is each grid's
+error.
 
 On CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is within 1.9 %
 of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" within 4.8 % (tests).
