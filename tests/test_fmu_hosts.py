@@ -194,3 +194,43 @@ def test_simulate_in_a_thread_pool_host(fmus):
         results = list(pool.map(one, range(8)))
     assert os.getcwd() == cwd
     assert set(results) == {solve("johnson_vermeulen", "traction", xi=1e-3).Fx}
+
+
+def test_host_instances_created_from_threads_keep_the_working_directory(fmus, monkeypatch):
+    """wheel_rail_fmu.host.FmuInstance created by several threads at once: the process's working
+    directory is left as it was and every instance works. fmpy's FMU constructor changes the
+    working directory around ``dlopen`` (see test_simulate_in_a_thread_pool_host); here the load
+    is slowed down so that, without the host's lock, the threads' loads overlap on every run (the
+    last to finish would restore the binaries folder that the first had changed to)."""
+    import threading
+    import time
+
+    import fmpy.fmi1
+    from wheel_rail_fmu.host import FmuInstance
+
+    class SlowLoader:
+        def LoadLibrary(self, path):
+            time.sleep(0.2)
+            return ctypes_cdll.LoadLibrary(path)
+
+    ctypes_cdll = fmpy.fmi1.cdll
+    monkeypatch.setattr(fmpy.fmi1, "cdll", SlowLoader())
+    cwd = os.getcwd()
+    start = threading.Barrier(3)
+    results: list[float] = []
+
+    def one(k):
+        start.wait()
+        with FmuInstance(fmus["traction"], f"thread{k}", {"N": 1e5}) as inst:
+            inst.step(xi=1e-3)
+            results.append(inst.get("Fx")[0])
+
+    threads = [threading.Thread(target=one, args=(k,)) for k in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    left = os.getcwd()
+    os.chdir(cwd)  # so that a failure here does not fail the tests after it
+    assert left == cwd
+    assert results == [solve("johnson_vermeulen", "traction", xi=1e-3).Fx] * 3

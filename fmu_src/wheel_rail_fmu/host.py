@@ -4,11 +4,17 @@ The one FMU host class of the project (tests, benchmarks, the wheelset co-simula
 values by name, typed setters/getters, statuses as fmpy's ``FMICallException`` (``.status``),
 and every message the FMU logs, counted per status (the last :data:`KEEP` kept as text, so a
 long run does not grow).
+
+Instances may be created from several threads (hosts with thread pools): extracting and loading
+are serialised by one lock. fmpy's FMU constructor (``_FMU.__init__`` in fmpy/fmi1.py) changes the
+process's working directory to the binaries folder around ``dlopen`` and back, so two threads
+loading at once could leave the whole process in the binaries folder.
 """
 from __future__ import annotations
 
 import atexit
 import shutil
+import threading
 from collections import Counter, deque
 from ctypes import byref
 from pathlib import Path
@@ -24,6 +30,8 @@ from fmpy.logging import addLoggerProxy
 KEEP = 1000
 STATUS_NAMES = ("ok", "warning", "discard", "error", "fatal", "pending")
 _unzipped: dict[tuple, str] = {}
+#: Held while an FMU is extracted or its library loaded (module docstring).
+_LOADING = threading.RLock()
 #: FMU2Slave's setter and getter per variable type.
 _SETTERS = {"Real": "setReal", "Integer": "setInteger", "Enumeration": "setInteger",
             "Boolean": "setBoolean", "String": "setString"}
@@ -37,10 +45,11 @@ def unzipped(path: str | Path) -> str:
     path = Path(path).resolve()
     st = path.stat()
     key = (path, st.st_mtime_ns, st.st_size)
-    if key not in _unzipped:
-        _unzipped[key] = extract(str(path))
-        atexit.register(shutil.rmtree, _unzipped[key], True)
-    return _unzipped[key]
+    with _LOADING:
+        if key not in _unzipped:
+            _unzipped[key] = extract(str(path))
+            atexit.register(shutil.rmtree, _unzipped[key], True)
+        return _unzipped[key]
 
 
 class FmuInstance:
@@ -71,9 +80,10 @@ class FmuInstance:
         cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         addLoggerProxy(byref(cb))
         self._callbacks = cb  # the ctypes callbacks must outlive the instance
-        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=unzipped(path),
-                             modelIdentifier=self.md.coSimulation.modelIdentifier,
-                             instanceName=name)
+        with _LOADING:
+            self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=unzipped(path),
+                                 modelIdentifier=self.md.coSimulation.modelIdentifier,
+                                 instanceName=name)
         self.fmu.instantiate(callbacks=cb, loggingOn=logging_on)
         self.t = start_time
         self.stop_time = stop_time
