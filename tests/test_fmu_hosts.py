@@ -208,12 +208,13 @@ def test_host_instances_created_from_threads_keep_the_working_directory(fmus, mo
     import fmpy.fmi1
     from wheel_rail_fmu.host import FmuInstance
 
+    ctypes_cdll = fmpy.fmi1.cdll
+
     class SlowLoader:
         def LoadLibrary(self, path):
             time.sleep(0.2)
             return ctypes_cdll.LoadLibrary(path)
 
-    ctypes_cdll = fmpy.fmi1.cdll
     monkeypatch.setattr(fmpy.fmi1, "cdll", SlowLoader())
     cwd = os.getcwd()
     start = threading.Barrier(3)
