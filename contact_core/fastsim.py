@@ -75,134 +75,26 @@ Option ``flexibility``:
     package's): Vollebregt and Voltr's weight grows with (ξ, η) alone, so a large spin beside a
     large creepage had its own flexibility L3 replaced by the creepage's; with the share, w goes
     from 0 at pure spin to theirs at pure creepage continuously along the direction of the
-    creepage. p = 1 with the parabolic bound, p = 1/3 with the elliptic one (``SHARE_POWER``):
-    the two bounds answer the blend in opposite ways, below. With the parabolic bound the spin
-    term -φy of the longitudinal slip has its own flexibility, √(L3 L4) (``MOMENT_POWER``, the
-    spin moment's flexibility below), also without the saturation effect.
+    creepage. p = 1 with the parabolic bound, p = 1/3 with the elliptic one (``SHARE_POWER``; the
+    two bounds answer the blend in opposite ways). With the parabolic bound the spin term -φy of
+    the longitudinal slip has its own flexibility L3^(1-q) L4^q, q = 1/2 (``MOMENT_POWER``), also
+    without the saturation effect: with L3 in both spin terms, simplified theory's moment under
+    pure spin in stick is Mz = -(8/15) a² b³ φ / L3 (Kalker 1979, eq 16 integrated over the
+    ellipse; only -φy contributes), an effective C33 = 32 C23 (b/a)^{3/2} / (15π), 0.88 C33 at
+    a/b = 1, 0.56 at 5, 0.45 at 10 (ν = 0.28); Kalker's rule for the flexibilities (1979, sec. 5:
+    each fitted to a coefficient of linear theory) gives that term its own L4 = 8b/(15 G C33).
 
-Measured against the converged exact theory (2026-11-25, with the element-mean traction bound),
-20×20 "kalker", |F| error p95 / max in % of μN and Mz in % of μN·c, "separate" /
-"blended-contact" / "blended":
-
-    cases                             parabolic bound           elliptic bound
-    bench, 80 with spin, creepage     7.2/10.9  4.9/12.5  2.7/6.2   8.7/11.9  5.8/10.8  5.9/8.8
-    bench, 400, Mz                    7.4/10.8  7.9/11.6  7.0/10.3  5.5/10.9  4.7/10.9  4.9/10.9
-    check, 2000 random                10.0/16.8 6.0/14.5  4.8/8.6   12.5/20.2 5.3/11.4  5.3/11.4
-    same, Mz                          7.9/15.7  10.3/17.2 9.0/13.0  9.3/27.5  5.0/15.7  5.0/15.9
-    check, 2000 hard region           11.9/18.3 8.4/17.7  6.4/11.3  14.3/23.2 3.6/16.0  4.1/13.5
-    same, Mz                          10.4/28.6 12.1/22.5 10.6/15.4 9.6/42.8  1.7/16.3  1.6/14.0
-    check, 300 spin band              6.0/8.1   6.0/7.6   4.6/7.7   10.9/11.9 11.0/11.9 11.0/11.9
-    same, Mz                          7.8/9.1   7.8/9.4   6.7/8.1   15.7/19.9 15.7/19.9 15.7/19.9
-
-(check: the held-out sets of ``python -m contact_core.table check``, a/b 0.1-10, vector error; its
-hard region lies near full sliding with the creepage close to pure ξ or η.) Pure ξ and η on the
-benchmark are the same with all three, (ξ, η) within 0.05 % of μN (table below); pure φ too with
-the elliptic bound, with the parabolic one "blended" takes it from 6.3/7.4 to 5.0/5.8 (the spin
-moment's flexibility).
-
-Against CONTACT's own FASTSIM (M=3, built from its source, eve70a/CONTACT d431cdb) on the same
-states and numbers of elements (20×20 and 48×44, both bounds; the benchmark's 400 cases and the
-three held-out sets; CONTACT's results are data in the tests): ``python
-examples/fastsim_vs_contact.py`` writes the 96 figures to ``docs/fastsim_vs_contact.md``. This
-module's default is not behind in 90 of them, with the widest margins on the maxima with spin and
-creepage (parabolic, 20×20: benchmark 6.2 against 12.7, random set 8.6 against 15.3, hard region
-11.3 against 18.6), and behind in 6 by 0.03-0.24 % of μN, all on the benchmark's pure ξ, η, (ξ, η)
-or φ (parabolic 20×20: pure ξ and η p95; elliptic 48×44: pure ξ, (ξ, η) and pure φ maxima, pure φ
-p95), where neither the blend nor the spin moment's flexibility act and the two differ only in the
-layout (strips here, a rectangle over the bounding box there; see the rectangle tried below). In all
-six both are below simplified theory's own error on that series or within 0.05 of it (the error at
-zero element size with these flexibilities, the report's last table: parabolic pure ξ / η p95 3.42 /
-3.18; elliptic pure ξ and (ξ, η) max 6.03, pure φ p95 / max 5.63 / 8.23): each grid's first-order
-error cancels part of the theory's, and the six differ in how much. The six are not the
-references' noise: the report's benchmark references take two grids finer than the benchmark's
-own (128² and 160²), which halves their 95 % half-width per case (median 0.09-0.16 -> 0.04-0.09 %
-of μN by series) and moves the six figures by at most 0.04 (measured 2026-11-25). The largest in
-force are the elliptic bound's pure ξ and (ξ, η) maxima at 48×44, 4.86 against 4.62 and 4.81
-against 4.67, both at a/b = 0.2 near full sliding, where simplified theory's force is 6.0 below
-the exact one and this module's grid error makes up 1.2 of it, CONTACT's 1.5 (at a/b = 5 in
-partial slip, where the theory is 3.1-3.3 above, the same grid errors put CONTACT's further off,
-4.6-4.7 against 4.3-4.4); the pure φ maximum there is a pure spin state at a/b = 5, 8.25 against
-8.13, the theory 8.23 (the element-mean bound, below, closed the moment maximum at 20×20 and
-took the pure φ p95 at 48×44 from 0.06 to 0.03). On a second draw of the three held-out sets
-(``check.SECOND_DRAW``: 600, 600 and 300 states, seeds 20261201-03, drawn after the exponents were
-chosen; references and CONTACT's results computed as for the first) it is behind in none of the 48
-figures. An earlier redraw with seed 20261125 for all three (not kept: the first draw's spin band
-has that seed) was behind in 5 of its 48, all maxima, by 0.17-1.53 (the random set's |F| max at
-48×44 with both bounds, its Mz max with the elliptic bound at both grids, the parabolic spin band's
-|F| max at 20×20), every p95 ahead: the maximum over a few hundred states moves with the draw.
-
-The creep coefficients between the table's rows: CONTACT (``linrol``) interpolates Kalker's table
-linearly in b/a between its rows b/a = 0.1, 0.2, ..., which between a/b = 5 and 10, where the
-coefficients grow by a factor 1.5 (C11, C22) to 2.2 (C23), puts them up to 7 % (C11, C22) and
-17 % (C23) above the exact theory's linear range (a/b 6-8, ν = 0.28; a/b = 6.5 and 7.5 in the
-tests); this package's spline in ln(a/b) (``coefficients``) is within 1 % of it there. The
-stiffer spin flexibility makes up for part of simplified theory's low moment (and lateral force)
-in partial slip: in the spin band at a/b 6-10 (59 of its 300 states), parabolic, 48×44, with L3
-alone for both spin terms (q = 0 below) CONTACT's Mz p95 is 5.8 against 9.5 here, at a/b 1-2 8.3
-against 8.4. With CONTACT's ``linrol`` changed to interpolate
-between the rows as a power law (log C linear in log(b/a); within 1 % of this package's
-coefficients; an analysis build, measured 2026-11-25), its spin band Mz p95 / max becomes 7.82 /
-9.46 (20×20) and 9.18 / 10.68 (48×44), against 7.83 / 9.15 and 9.28 / 10.50 here; its elliptic
-hard region |F| p95 4.56 -> 3.74 (20×20) and 3.96 -> 3.41 (48×44), below this module's 4.17 and
-3.87 (this module's ``flexibility="blended-contact"``, CONTACT's blend, gives 3.7 there too, with
-the higher maximum, table above): part of this module's lead in that figure is CONTACT's
-coefficients, not this module's blend. Counted against that build, this module (with q = 0) was
-behind in 17 of the 96 figures instead of 15.
-
-The spin moment's flexibility (``MOMENT_POWER``; this package's): with L3 in both spin terms,
-simplified theory's moment under pure spin in stick is Mz = -(8/15) a² b³ φ / L3 (Kalker 1979, eq 16
-integrated over the ellipse; only the term -φy of the longitudinal slip contributes), an effective
-C33 = 32 C23 (b/a)^{3/2} / (15π): 0.88 C33 at a/b = 1, 0.56 at 5, 0.45 at 10 (ν = 0.28). Kalker's
-rule for the flexibilities (1979, sec. 5: each fitted to a coefficient of linear theory) gives that
-term its own L4 = 8b/(15 G C33). The default blend uses L3^(1-q) L4^q for it, blended as L3 is (the
-slip law keeps L3). Near pure spin the parabolic bound's moment is too low (mean signed error -2 to
--6 % of μN·c over a/b in the spin band, 20×20, q = 0; in full sliding its pressure's moment arm is
-shorter: μ∫ p_n r dA = 8/15 μNa against the Hertzian 3π/16 μNa on a circle), the elliptic bound's
-too high (+2 to +11 %, growing with a/b). Parabolic bound, against CONTACT's FASTSIM on the figures
-q changes (p95 / max, 20×20 unless marked):
-
-    q          bench pure φ   spin band |F|  spin band Mz   same, 48×44 |F|  48×44 Mz
-    0          6.33/7.42      5.95/7.81      7.83/9.15      7.03/9.44        9.28/10.50
-    0.3        5.53/6.41      4.95/7.44      7.16/8.38      5.82/8.53        8.39/9.80
-    1/2        5.00/5.81      4.58/7.66      6.67/8.03      5.21/7.92        7.75/9.21
-    0.7        4.70/5.22      4.65/7.96      6.50/7.72      4.75/7.31        7.11/8.74
-    1          4.28/5.61      6.36/8.82      6.40/8.23      4.96/7.53        6.60/8.25
-    CONTACT    6.50/7.59      6.12/7.83      7.69/8.58      7.65/9.21        8.54/9.85
-
-Every other figure it changes falls from q = 0 to 1/2 (benchmark with spin and creepage, random
-set, hard region; the table above), except the random set's Mz p95 at 20×20 (8.92 -> 8.99,
-CONTACT's 10.27); on the benchmark at 80×80, near simplified theory's grid limit, all cases' |F|
-p95 / max go from 3.85 / 8.47 to 3.30 / 6.43 (docs/accuracy_vs_time.md): not one grid's gain.
-With q = 0.3, 0.4, 0.5 and 0.6 none of the 36 parabolic figures it changes (all
-but pure ξ, η and (ξ, η)) is behind CONTACT's, q = 1/2 the middle; q = 1 reproduces C33 but is
-behind in the spin band's |F| at 20×20. With the elliptic bound q = 0.3, 1/2 and 1 are all worse
-(q = 0.3: pure φ 6.05/9.31 -> 7.55/10.50, spin band Mz 16.30/20.47 -> 17.03/21.30), so it keeps
-L3 (q = 0). On the second draw q = 0, 1/4, 1/2, 3/4 and 1 are behind in 5, 2, 0, 1 and 2 of
-its 24 parabolic figures (q = 0 in the spin band's Mz, q = 1 in its |F| at 20×20, 8.72 against
-7.00), on the earlier redraw in 5, 3, 2, 2 and 1 (q = 1 by up to 3.2, 1/2 by 0.58 and 0.75);
-with the elliptic bound q = 0.3 is behind in one figure of the second draw, q = 0 in none.
-
-The share's exponent p (measured 2026-11-25 on those sets with p = 1, 1/2, 1/3, 1/4): the two
-bounds answer it in opposite ways. In the hard region with the creepage near pure η and η, φ of one
-sign (share 0.5-0.9), p = 1/4 instead of 1 takes the elliptic |F| p95 from 4.8 to 1.2 but the
-parabolic one from 4.3 to 7.1. With the parabolic bound p = 1 has the smallest maxima: p = 1/4
-would take the random set's max from 9.05 to 12.33, the hard region's from 11.51 to 15.84 and the
-benchmark's with spin from 6.44 to 10.91. With the elliptic bound p = 1 is behind CONTACT's p95 in
-the hard region (|F| 5.67 against 4.55 at 20×20, 5.65 against 3.96 at 48×44; Mz 2.66 against 1.92
-and 2.20 against 1.68) and on the random set (5.78 against 5.20 at 48×44), p = 1/2 still in the
-hard region (|F| 4.63 and 4.37); p = 1/3 is ahead in every figure the blend changes (hard region
-4.16 and 3.87, random set 5.41 and 4.77). It costs maxima: hard region 9.03 / 8.83 -> 13.48 / 13.18
-(CONTACT's 15.96 / 15.61), benchmark with spin 8.15 -> 8.75 at 20×20, set by states with η and φ of
-opposite signs, their lateral forces cancelling (linear force 6-8 μN, share 0.6-0.7). CONTACT's
-user guide recommends its FASTSIM, with this blend, with the elliptic bound.
-
-Tried and not kept (with the share's exponent 1 for both bounds): closing the 20×20 gaps by moving
-this scheme's first step or spin sample, per bound. A first step of 0.9 Δx_j (parabolic) takes pure
-ξ / η p95 to 1.03 / 1.03 at 20×20, but at 40×40 from 1.98 / 1.58 to 2.30 / 1.89, and leaves
-``check``'s held-out states as they were (within 0.03). The spin sampled at Δx_j/5 (elliptic) takes
-pure φ to 5.73/8.99 at 20×20 and the held-out spin band to 10.8/11.8 (from 11.2/12.1), but the
-random set's p95 from 6.03 to 6.14 and at 10×10 pure φ p95 from 8.80 to 9.03: both are the 20×20
-benchmark's optimum, not the scheme's.
+How the exponents p and q, the scheme and the bound's default were chosen, against the
+converged exact theory and against CONTACT's own FASTSIM (M=3, built from its source,
+eve70a/CONTACT d431cdb; its results are data in the tests), and the variants tried and not kept,
+are in docs/fastsim.md; ``python examples/fastsim_vs_contact.py`` regenerates the comparison
+(docs/fastsim_vs_contact.md). In short: with the default options this module is not behind
+CONTACT's FASTSIM in 90 of the 96 figures (20×20 and 48×44, both bounds, the benchmark's 400 cases
+and the three held-out sets of ``python -m contact_core.table check``, p95 and max), nor in any of
+the 48 of a second draw of the held-out sets; it is behind in 6, by 0.03-0.24 % of μN, on the
+benchmark's pure ξ, η, (ξ, η) or φ, where both programs are within 0.05 % of μN of simplified
+theory's own error or below it and differ only in how much of it each grid's first-order error
+cancels.
 
 Traction bound g = μ p_n (option ``bound``):
 
@@ -238,109 +130,26 @@ the contact centre, same sign convention as linear theory).
     leading edge were half an element ahead of a_j; in stick every traction is too large by that
     much, so for pure ξ or η without saturation the force is (1 + 1/nx) times the converged value
     (plus the O(n⁻²) strip rule in y), first order. CONTACT samples the spin term φx of each step at
-    x_i + Δx_j/6 (its ``facphi`` = 1/6 in the rigid slip of ``m_sdis.f90``, which its source calls
-    an additional term without a reason), and so does this scheme. Why 1/6: sampled at x_i + θ Δx_j,
-    the pure-spin stick force exceeds the converged one by about 6θ/nx (summing the march against
-    Kalker 1979 eq 37; θ = ½ gives 3/nx), so θ = 1/6 gives every creepage the same first-order
-    excess 1/nx, the excess that makes up for simplified theory's shortfall in partial slip (below;
-    the table there gives the errors before and after). θ = 0 (the spin force second order in stick)
-    is better with the parabolic bound and worse with the elliptic one (benchmark, converged
-    references, 20×20, |F| p95 / max, pure φ and with spin: parabolic 4.7 / 7.0 and 6.5 / 10.2
-    against 6.3 / 7.4 and 7.2 / 10.9 at θ = 1/6, Mz 6.6 / 9.9 against 7.4 / 10.8; elliptic
-    7.7 / 10.8 and 9.4 / 11.2 against 6.0 / 9.3 and 8.7 / 11.9), but on the held-out spin band of
-    ``python -m contact_core.table check`` (300 states, a/b 1-10, within 30° of pure spin; vector
-    error) it is worse with both bounds (parabolic, |F| p95 / max: 10×10 12.9 / 22.3 against
-    6.7 / 14.7, 20×20 6.0 / 11.6 against 6.0 / 8.1): not adopted. The layout was taken from CONTACT;
-    Kalker's 1982 listing itself was not available to check it against. With it this module
-    reproduces CONTACT's ``tractcurv`` FASTSIM column (parabolic bound, 48×44 rectangular grid)
-    within 1 % at every published point at the comparable nx = 44, ny = 40 (-0.33 % .. +0.67 %, see
-    the tests).
+    x_i + Δx_j/6 (its ``facphi`` = 1/6 in the rigid slip of ``m_sdis.f90``), and so does this
+    scheme: sampled at x_i + θ Δx_j, the pure-spin stick force exceeds the converged one by about
+    6θ/nx (summing the march against Kalker 1979 eq 37; θ = ½ gives 3/nx), so θ = 1/6 gives
+    every creepage the same first-order excess 1/nx. It is the default because of its accuracy
+    against the exact theory, not against FASTSIM's own grid limit: simplified theory
+    under-estimates the force in partial slip, and the first-order excess at 20×20 makes up for
+    much of it (benchmark, 400 cases, 20×20, parabolic bound, flexibility "separate", |F| error
+    p95 / max in % of μN: pure ξ 1.5 / 1.8 against 3.4 / 4.2 with "midpoint", pure φ 6.3 / 7.4
+    against 9.7 / 11.6; on CONTACT's published ``tractcurv`` creep curve, exact, 48×44, at 20×20
+    within 1.9 % of μN where "midpoint" is within 4.8 % and CONTACT's own FASTSIM (48×44) within
+    3.9 %; docs/fastsim.md, tests).
+    The layout was taken from CONTACT (Kalker's 1982 listing was not available to check it
+    against): this module reproduces CONTACT's ``tractcurv`` FASTSIM column (parabolic bound,
+    48×44 rectangular grid) within 1 % at every published point at the comparable nx = 44,
+    ny = 40 (-0.33 % .. +0.67 %, tests).
 
 Both converge to the same continuum FASTSIM solution (tests: on CONTACT's tractcurv example the
-Richardson-extrapolated "kalker" curve equals the 400×400 "midpoint" curve to 0.02 %).
-The default is chosen by the accuracy against the exact theory, not against FASTSIM's own grid
-limit: simplified theory under-estimates the force in partial slip, and the first-order excess of
-"kalker" at 20×20 makes up for much of it. Against the converged exact solution (benchmark, 400
-cases, 20×20, flexibility "separate" (the default "blended" changes only the with-spin column,
-above), |F| error p95 / max in % of μN; measured 2026-11-24 with the spin sampled at Δx_j/6 in
-"kalker", its pure φ and with-spin columns before that change in brackets):
-
-    ==========  ==========  ===========  ===========  =====================  =====================
-    bound       scheme      pure ξ       ξ and η      pure φ                 with spin
-    ==========  ==========  ===========  ===========  =====================  =====================
-    parabolic   kalker      1.5 / 1.8    1.5 / 1.8    6.3 / 7.4 (9.7/11.6)   7.2 / 10.9 (7.6/13.6)
-    parabolic   midpoint    3.4 / 4.2    3.6 / 4.5    9.7 / 11.6             7.6 / 12.7
-    elliptic    kalker      5.6 / 6.1    5.7 / 6.1    6.0 / 9.3 (6.9/10.3)   8.7 / 11.9 (8.7/16.2)
-    elliptic    midpoint    4.7 / 6.0    4.9 / 5.9    4.4 / 8.5              8.4 / 12.8
-    ==========  ==========  ===========  ===========  =====================  =====================
-
-With the elliptic bound "midpoint" is ahead on this benchmark; with the default flexibility it is
-ahead of CONTACT's FASTSIM (above) on all twelve of the benchmark's 20×20 figures with that bound
-(pure ξ, η, (ξ, η), φ, with spin, Mz: 4.74/6.02, 3.84/5.65, 4.95/5.98, 4.40/8.47, 5.37/7.36,
-3.69/6.20). It is not the elliptic default because on the held-out states of ``python -m
-contact_core.table check`` (a/b 0.1-10, every direction) its |F| p95 is behind "kalker" at 10×10,
-20×20 and 40×40: at 20×20 random set p95/max 5.76/11.67 against 5.41/11.72, hard region 6.46/12.60
-against 4.16/13.48, behind CONTACT's 4.55 there (ahead on the spin band, 9.41/12.31 against
-11.22/12.14, and in Mz p95 on the random set and the spin band; measured 2026-11-25 with the
-share's exponent 1/3). At 48×44 it is behind CONTACT on pure ξ (4.80/6.02 against 4.36/4.63).
-
-For pure spin the limit is simplified theory itself, not the grid: at zero element size ("midpoint"
-on 200×200 and 400×400 extrapolated at first order, flexibility "separate") it is 7.3 / 8.8 off with
-the parabolic bound and 5.6 / 8.2 with the elliptic one on the benchmark's 80 pure-spin cases
-(against the report's references, the exact solver fitted over 40²…160² grids; measured
-2026-11-25; "midpoint" on 100×100, taken for converged on 2026-11-24, gives 7.8 / 9.4 and 5.3 /
-8.2). A coarse grid comes closer only where its own error happens to cancel part of it: on a
-uniform grid over the ellipse's bounding box, as CONTACT discretises its potential contact (the
-elements whose centre lies inside the ellipse carry traction), parabolic bound, 20×20 is 4.9 /
-8.6 off and 40×40 5.9 / 7.1, converging at first order to the same solution (160×160: 6.9 / 8.4,
-within 1.2 % of μN of "midpoint" on 160×160 strips); but for pure ξ that grid is 1.4 / 2.6
-(20×20) and 2.4 / 3.4 (40×40) off. (For pure spin the slip law here is CONTACT's: its FASTSIM
-scales the stick traction radially onto the bound; projecting along diag(L1, L2) instead is worse,
-parabolic 11.2 / 11.9.)
-Tried and not kept: that rectangular grid as a layout option, with this module's current scheme
-and flexibilities (measured 2026-11-25 on the benchmark's 400 cases, 20×20, beside CONTACT's
-FASTSIM on the same grid; |F| p95 / max, strips -> rectangle, CONTACT in brackets). Parabolic:
-pure ξ 1.53 / 1.83 -> 1.45 / 2.58 (1.44 / 2.58), pure η 1.57 / 1.59 -> 1.40 / 2.33 (1.40 / 2.30),
-(ξ, η) 1.54 / 1.88 -> 1.77 / 2.57 (1.75 / 2.55), with spin 3.49 / 6.44 -> 3.58 / 6.75 (5.37 /
-12.68). Elliptic: pure ξ 5.63 / 6.11 -> 6.14 / 6.71 (6.16 / 6.76), pure φ 6.05 / 9.29 -> 6.06 /
-9.44 (6.01 / 9.22), Mz max 11.37 -> 11.14 (11.15). The rectangle trades the strips' lower maxima
-for lower p95 on pure creepage with the parabolic bound, and is worse elsewhere; on pure
-creepage it comes within 0.2 % of μN of CONTACT's results, not to them: the flexibilities
-differ by up to 0.1 % (ours/CONTACT's linear-range force 1.0011 at a/b = 0.2, 1.00006 at 5).
-Both take the creep coefficients from Kalker's table (Kalker 1990, table E.3), at ν = 0.28
-between its columns ν = 0.25 and 0.5: CONTACT interpolates 1/C quadratically in ν, this package
-ln C (``coefficients``). Between the two, strips of equal element length (n_j = round(nx a_j/a)
-elements on strip j, from its own leading edge; measured 2026-11-25 on the benchmark's pure ξ and
-η, "kalker", the report's references): parabolic 20×20 p95 1.79 and 1.87 (strips 1.51 and 1.54,
-CONTACT 1.43 and 1.39), elliptic 48×44 pure ξ max 4.66 (4.86, 4.62); not kept either.
-(L4 alone for the spin term of the longitudinal slip, q = 1, was first tried on 2026-11-24,
-before the blend, with the spin sampled at the step's midpoint: the maximum with spin and
-creepage rose, 13.5 -> 15.0 % of μN with the parabolic bound, and it was set aside.)
-
-Not reached by a weighting either: simplified theory's own error under creepage without spin, where
-four of the six gaps to CONTACT's FASTSIM above lie. Under pure ξ (η) FASTSIM's force depends on
-ξ/L1 (η/L2) alone, the same function of ψ = G c² C11 |ξ| / (μN) (C22 |η|; linear theory's force over
-μN, Kalker 1979, eq 17) for every a/b (elliptic bound, "midpoint" 200×200: 0.0996, 0.4548, 0.8660,
-0.9275 μN at ψ = 0.1, 0.5, 1.5, 2 for a/b = 0.2, 1 and 5), while the exact theory's differs with a/b
-(0.9869 and 0.9732 μN at ψ = 2, a/b = 0.2 and 5). The flexibility L1 h(ψ) that puts FASTSIM on the
-exact force at each ψ (a/b 0.1-10, ν = 0.28, pure ξ and pure η, the exact theory as the table method
-gives it, within 0.35 % of μN of the exact solver on 80×80 extrapolated at a/b 0.2, 1 and 5;
-measured 2026-11-26): with the parabolic bound a steady stiffening, h = 0.97-0.98 at ψ = 0.5,
-0.92-0.97 at 1, 0.81-0.92 at 2; with the elliptic bound 1.07-1.08 at ψ = 0.5 but 0.50-0.69 at 2 and
-0.15-0.33 at 2.5, its force being too high before ψ ≈ 1 (+2.0 to +3.3 % of μN at ψ = 0.75) and
-reaching μN only asymptotically (-4.4 to -6.1 at ψ = 2). For the elliptic bound that is a fit of the
-creep curve's shape per a/b, not a weighting of Kalker's flexibilities; with the parabolic bound a
-stiffening that removed the theory's error would leave "kalker"'s first-order excess (+1/nx in
-stick) as the whole error at 20×20. What separates the two programs on pure creepage is each grid's
-error.
-
-On CONTACT's published tractcurv creep curve (exact, 48×44) "kalker" 20×20 is within 1.9 %
-of μN where CONTACT's own FASTSIM (48×44) is within 3.9 % and "midpoint" within 4.8 % (tests).
-"midpoint" remains the scheme whose FASTSIM solution converges fastest with the grid: O(n⁻²) in
-stick and, with the parabolic bound, for pure ξ or η; first order in partial slip with spin or
-under (ξ, η) (benchmark, |F| moving by at most 0.74, 0.39 and 0.19 % of μN from 50×50 to 100×100,
-200×200 and 400×400 with spin; for pure ξ 0.024, 0.006, 0.001 with the parabolic bound, 0.065,
-0.024, 0.009 with the elliptic one; measured 2026-11-25).
+Richardson-extrapolated "kalker" curve equals the 400×400 "midpoint" curve to 0.02 %); "midpoint"
+converges fastest, O(n⁻²) in stick and, with the parabolic bound, for pure ξ or η, first order in
+partial slip with spin or under (ξ, η).
 
 The traction bound of an element is the mean of μ p_n over it along its strip (exact: the
 pressure's primitive, ``_bound_profile``), not its value at the centre. The element's traction p
@@ -352,20 +161,10 @@ times its centre value for any fine grid), 0.9 % (20×20) with the parabolic one
 strip the means give its load exactly; one constant k (depending on nx, ny and the bound only)
 corrects the midpoint rule across the strips so that Σ p_n ΔA = N; full sliding then gives |F| = μN
 at any grid. k - 1 is -0.03 % at 20×20 parabolic and -1/(2 ny² + 1) with the Hertzian pressure
-(-0.12 % at 20×20). Measured against the converged exact theory (2026-11-25, default options;
-before: the centre value with its own k) on the 72 figures per bound of docs/fastsim_vs_contact.md
-(benchmark and held-out sets, both draws, 20×20 and 48×44): with the elliptic bound 58 fall, by up
-to 0.62 % of μN (or μN·c), e.g. 20×20 pure φ 6.05 / 9.31 -> 5.83 / 9.03, benchmark Mz max 11.38 ->
-10.95, spin band Mz 16.30 / 20.47 -> 15.70 / 19.87, 48×44 pure φ 5.48 / 8.39 -> 5.45 / 8.28
-(CONTACT's 5.42 / 8.16), and 11 rise, by up to 0.20 (the hard region's Mz max, 13.85 -> 13.97 and
-on the second draw 19.19 -> 19.39; CONTACT's 15.89 and 22.04); with the parabolic bound, where the
-two differ little, 47 rise by up to 0.09 (spin band |F| max 7.66 -> 7.75) and 4 fall by up to 0.01;
-none of them comes behind CONTACT's. The comparisons of variants above and below (the exponents p
-and q, the spin sampling, the rectangle, the scheme table) were measured with the centre value; the
-first table above and the counts against CONTACT are with the mean. CONTACT's FASTSIM takes the
-pressure at its element centres as it is (CONTACT ``m_sdis.f90``, bounds B=2, 3): on the
-benchmark's pure ξ and η states its full-sliding force reaches 1.0023 μN (elliptic) and 1.0004 μN
-(parabolic) at 20×20, 1.0008 and 1.0001 μN at 48×44 (measured 2026-11-25).
+(-0.12 % at 20×20). Against the converged exact theory the mean instead of the centre value
+lowered 58 of the elliptic bound's 72 figures of docs/fastsim_vs_contact.md, by up to 0.62 % of
+μN, raised 11 by up to 0.20, and put none of either bound's behind CONTACT's FASTSIM, which takes
+the pressure at its element centres as it is (docs/fastsim.md).
 
 Known properties of simplified theory (not errors of this code): with three flexibilities
 FASTSIM's Mz differs from linear theory's C33 (for pure spin with L = L3 the effective C33 is
@@ -403,13 +202,14 @@ BOUNDS: tuple[str, ...] = ("parabolic", "elliptic")
 #: CONTACT's Δx_j/6, module docstring). The traction points are the element centres in both.
 SCHEMES: dict[str, tuple[float, float]] = {"midpoint": (0.5, 0.5), "kalker": (1.0, 1.0 / 6.0)}
 #: Exponent p of the creepage's share in the default blend (flexibility "blended"), per bound
-#: (module docstring): parabolic 1, the smallest maxima; elliptic 1/3, the largest of 1, 1/2,
-#: 1/3 and 1/4 with which none of the elliptic figures the blend changes is behind CONTACT's
-#: FASTSIM (docs/fastsim_vs_contact.md).
+#: (module docstring; measured in docs/fastsim.md): parabolic 1, the smallest maxima; elliptic
+#: 1/3, the largest of 1, 1/2, 1/3 and 1/4 with which none of the elliptic figures the blend
+#: changes is behind CONTACT's FASTSIM (docs/fastsim_vs_contact.md).
 SHARE_POWER: dict[str, float] = {"parabolic": 1.0, "elliptic": 1.0 / 3.0}
 #: Exponent q of the spin term of the longitudinal slip's flexibility L3^(1-q) L4^q in the
-#: default blend (flexibility "blended"), per bound (module docstring): L4 = 8b/(15 G C33)
-#: reproduces linear theory's spin moment; parabolic 1/2, elliptic 0 (L3 alone).
+#: default blend (flexibility "blended"), per bound (module docstring; measured in
+#: docs/fastsim.md): L4 = 8b/(15 G C33) reproduces linear theory's spin moment; parabolic 1/2,
+#: elliptic 0 (L3 alone).
 MOMENT_POWER: dict[str, float] = {"parabolic": 0.5, "elliptic": 0.0}
 #: Flexibilities (option ``flexibility``, module docstring): one per creepage blended towards one
 #: as the creepage grows (two weights), one per creepage, or Kalker 1982's single weighted one.
@@ -696,8 +496,8 @@ class Fastsim(ContactMethod):
         Return :class:`FastsimFields` (grid, tractions, bound, stick/slip mask, areas).
 
     Default grid 20×20: it meets the speed budget (about 6 µs per ``solve`` call on the project
-    machine, see ``examples/bench_fastsim.py``); its accuracy against the exact theory is in the
-    module docstring and docs/accuracy_vs_time.md. Refine (40×40, 80×80) for smoother traction
+    machine, see ``examples/bench_fastsim.py``); its accuracy against the exact theory is in
+    docs/fastsim.md and docs/accuracy_vs_time.md. Refine (40×40, 80×80) for smoother traction
     maps; the error against the exact theory is then dominated by simplified theory itself.
     """
 

@@ -467,7 +467,7 @@ def test_with_spin_and_creepage_fastsim_is_not_behind_contacts_fastsim(bound, nx
 def test_blends_bring_fastsim_closer_to_exact_theory_with_spin_and_large_creepage():
     # Against the exact theory (default setting) on 12 random states in and near full sliding
     # (τ 1-4, spin 10-60 % of the linear force): the blends' mean |F| error is below that of
-    # three unblended flexibilities (held-out sets: module docstring of contact_core.fastsim).
+    # three unblended flexibilities (held-out sets: docs/fastsim.md).
     rng = np.random.default_rng(1)
     errs = {"separate": [], "blended-contact": [], "blended": []}
     for _ in range(12):
