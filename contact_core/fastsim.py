@@ -167,10 +167,10 @@ lowered 58 of the elliptic bound's 72 figures of docs/fastsim_vs_contact.md, by 
 the pressure at its element centres as it is (docs/fastsim.md).
 
 Known properties of simplified theory (not errors of this code): with three flexibilities
-FASTSIM's Mz differs from linear theory's C33 (for pure spin with L = L3 the effective C33 is
-32 C23 (b/a)^{3/2} / (15π), about 0.88 C33 at a/b = 1, ν = 0.28; the default with the parabolic
-bound has the geometric mean of that and C33, the spin moment's flexibility above; see the
-tests); and so does FASTSIM's coupling term for Fy/φ vs Mz/η (C32 ≠ -C23 in simplified theory).
+FASTSIM's Mz differs from linear theory's C33 (the effective C33 of L3 alone in the option
+"blended" above; the default with the parabolic bound has the geometric mean of that and C33; see
+the tests); and so does FASTSIM's coupling term for Fy/φ vs Mz/η (C32 ≠ -C23 in simplified
+theory).
 
 ``fields=True`` returns a :class:`FastsimFields` in ``ContactResult.fields``. ``slip_fraction`` is
 the slipping area over the contact area (of the discrete grid).
