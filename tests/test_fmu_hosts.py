@@ -235,3 +235,32 @@ def test_host_instances_created_from_threads_keep_the_working_directory(fmus, mo
     os.chdir(cwd)  # so that a failure here does not fail the tests after it
     assert left == cwd
     assert results == [solve("johnson_vermeulen", "traction", xi=1e-3).Fx] * 3
+
+
+def test_host_messages_reach_their_own_instance(fmus):
+    """wheel_rail_fmu.host.FmuInstance: each instance keeps its own FMU's messages, also after
+    another instance is freed and collected (fmpy's logger proxy holds one callback per process;
+    host.py's module docstring). A separate process: a freed callback crashes it."""
+    code = (
+        "import gc, json, sys\n"
+        "from fmpy.fmi1 import FMICallException\n"
+        "from wheel_rail_fmu.host import FmuInstance\n"
+        "def nan_step(inst):\n"
+        "    try:\n"
+        "        inst.step(xi=float('nan'))\n"
+        "    except FMICallException:\n"
+        "        pass\n"
+        "    return inst.errors(2)\n"
+        "a = FmuInstance(sys.argv[1], 'a', {'N': 1e5})\n"
+        "b = FmuInstance(sys.argv[2], 'b', {'N': 1e5})\n"
+        "seen = [nan_step(a), list(b.messages)]\n"
+        "b.free(); del b; gc.collect()\n"
+        "seen.append(nan_step(a))\n"
+        "print(json.dumps(seen))\n")
+    out = subprocess.run([sys.executable, "-c", code, str(fmus["traction"]),
+                          str(fmus["curving"])], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    first, other, after = json.loads(out.stdout.splitlines()[-1])
+    assert len(first) == 1 and "xi=nan" in first[0]
+    assert other == []
+    assert len(after) == 2 and "xi=nan" in after[1]

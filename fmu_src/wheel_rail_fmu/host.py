@@ -9,12 +9,24 @@ Instances may be created from several threads (hosts with thread pools): extract
 are serialised by one lock. fmpy's FMU constructor (``_FMU.__init__`` in fmpy/fmi1.py) changes the
 process's working directory to the binaries folder around ``dlopen`` and back, so two threads
 loading at once could leave the whole process in the binaries folder.
+
+Log messages: FMI loggers are variadic, so fmpy passes them through its native proxy
+(``addLoggerProxy``), which keeps one Python callback per process, the last one registered (a
+static in fmpy's native/src/logging/logging.c, FMPy 0.3.x). A callback per instance would
+therefore receive every instance's messages, and once collected crash the host at the next
+message. So there is one callback, :data:`_LOGGER`, alive as long as the process and registered
+again by every new instance, and it hands each message to the instance whose number the FMU
+passes back as ``componentEnvironment`` (FMI 2.0 sec. 2.1.5). A later ``fmpy.simulate_fmu(...,
+logger=...)`` in the same process registers its own callback for every FMU, and frees it when it
+returns: create instances after such calls, not before.
 """
 from __future__ import annotations
 
 import atexit
+import itertools
 import shutil
 import threading
+import weakref
 from collections import Counter, deque
 from ctypes import byref
 from pathlib import Path
@@ -37,6 +49,22 @@ _SETTERS = {"Real": "setReal", "Integer": "setInteger", "Enumeration": "setInteg
             "Boolean": "setBoolean", "String": "setString"}
 _GETTERS = {"Real": "getReal", "Integer": "getInteger", "Enumeration": "getInteger",
             "Boolean": "getBoolean", "String": "getString"}
+#: Live instances by the number their FMU passes to the logger (module docstring).
+_BY_NUMBER: "weakref.WeakValueDictionary[int, FmuInstance]" = weakref.WeakValueDictionary()
+_numbers = itertools.count(1)
+
+
+def _log(environment, instance_name, status, category, message) -> None:
+    instance = _BY_NUMBER.get(environment or 0)
+    if instance is not None:
+        instance.counts[status] += 1
+        instance.messages.append((status, message.decode("utf-8", "replace")))
+
+
+#: The process's one logger callback (module docstring), and memory callbacks.
+_LOGGER = fmi2CallbackLoggerTYPE(_log)
+_ALLOCATE = fmi2CallbackAllocateMemoryTYPE(calloc)
+_FREE = fmi2CallbackFreeMemoryTYPE(free)
 
 
 def unzipped(path: str | Path) -> str:
@@ -69,17 +97,15 @@ class FmuInstance:
         self.vars = {v.name: v for v in self.md.modelVariables}
         self.messages: deque[tuple[int, str]] = deque(maxlen=KEEP)
         self.counts: Counter[int] = Counter()
-
-        def logger(component, instance_name, status, category, message):
-            self.counts[status] += 1
-            self.messages.append((status, message.decode("utf-8", "replace")))
-
+        number = next(_numbers)
+        _BY_NUMBER[number] = self
         cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(logger)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        cb.logger = _LOGGER
+        cb.allocateMemory = _ALLOCATE
+        cb.freeMemory = _FREE
+        cb.componentEnvironment = number
         addLoggerProxy(byref(cb))
-        self._callbacks = cb  # the ctypes callbacks must outlive the instance
+        self._callbacks = cb  # the FMU may keep a pointer to it until fmi2FreeInstance
         with _LOADING:
             self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=unzipped(path),
                                  modelIdentifier=self.md.coSimulation.modelIdentifier,
