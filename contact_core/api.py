@@ -41,7 +41,8 @@ def _cached_solver(method: str, effects: Any, options: dict[str, Any]) -> Contac
     if not isinstance(effects, (Effects, tuple, frozenset, str, type(None))):
         effects = as_effects(effects)  # a list, set or generator of names: not a cache key
     try:
-        key = (method, effects, tuple(options.items()))
+        # with the types: True == 1 == 1.0, but an option may accept one and refuse the others
+        key = (method, effects, tuple((k, type(v), v) for k, v in options.items()))
         solver = _solvers.get(key)
     except TypeError:  # unhashable option value: no caching
         return make_solver(method, effects, **options)

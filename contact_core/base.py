@@ -147,6 +147,9 @@ class ContactMethod(ABC):
     #: False for a method that never saturates (linear theory): its forces are linear in the
     #: creepages whatever the effects.
     saturates: ClassVar[bool] = True
+    #: The method that solves the states outside this one's domain (None: no such states); its
+    #: results then carry that method's ``name``.
+    fallback: ClassVar[str | None] = None
 
     def __init__(self, effects: Effects = ALL_EFFECTS, **options: Any) -> None:
         unknown = sorted(set(options) - set(self.default_options))
@@ -184,7 +187,7 @@ class ContactMethod(ABC):
                                       ("phi", phi, eff.spin)) if v and not on]
             raise ValueError(f"{off[0]} is non-zero but its effect is not selected "
                              f"(effects={list(eff.names())}); pass 0.0 or select the effect")
-        if N == 0.0 or (mu == 0.0 and eff.saturation):
+        if N == 0.0 or (mu == 0.0 and self._saturates):
             # Wheel lifted (no load) or frictionless contact: no tangential force.
             return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
         # with every input selected, _moderate was already False above

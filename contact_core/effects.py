@@ -77,4 +77,9 @@ def as_effects(spec: Effects | Iterable[str] | None) -> Effects:
         return spec
     if isinstance(spec, (tuple, frozenset, str)):
         return _from_hashable(spec)
-    return _from_hashable(tuple(spec))
+    try:
+        names = tuple(spec)
+    except TypeError:
+        raise ValueError(f"effects={spec!r} is invalid: allowed None, an Effects or effect names "
+                         f"from {list(EFFECT_NAMES)}") from None
+    return _from_hashable(names)

@@ -75,6 +75,7 @@ class Table(ContactMethod):
 
     name = "table"
     code = 5
+    fallback = Exact.name
     default_options: dict = {"folder": None}
 
     def _check_options(self) -> None:
