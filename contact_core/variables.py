@@ -89,8 +89,9 @@ VARIABLES: tuple[Variable, ...] = (
     Variable("p0", "output", "Real", "Pa", "Maximum Hertz pressure", depends=("N",)),
     Variable("slip_fraction", "output", "Real", "1", "Fraction of the contact area in slip, "
              "0..1"),
+    # N: a loaded state may go to the method's fallback (table -> exact), a lifted one does not
     Variable("method_used", "output", "Integer", None, "Code of the method that computed the "
-             "outputs", depends=()),
+             "outputs", depends=("N",)),
     Variable("E", "parameter", "Real", "Pa", "Young's modulus of wheel and rail (same "
              "material)", None, 210e9, Range(0.0, _INF, True, True, "Young's modulus, Pa")),
     Variable("nu", "parameter", "Real", "1", "Poisson's ratio of wheel and rail", None, 0.28,

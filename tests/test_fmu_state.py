@@ -21,7 +21,7 @@ INPUTS = [dict(xi=1e-3, eta=-5e-4, phi=0.2, N=1e5, mu=0.3),
           dict(xi=-5e-4, eta=3e-4, phi=0.4, N=1.2e5, mu=0.35),
           dict(xi=3e-3, eta=-2e-3, phi=0.0, N=9e4, mu=0.3)]
 OUT = ("Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction")
-ERROR = 3
+WARNING, ERROR = 1, 3
 
 
 def run(inst, inputs):
@@ -124,6 +124,9 @@ def _crafted(blob: bytes, tmp_path) -> dict[str, bytes]:
         "wrong array shape": edit(arrays=[["<f8", [144]]] + header["arrays"][1:]),
         "extra data": _envelope(header, data + b"\0" * 8),
         "header not JSON": _envelope_raw(b"{not json", data),
+        "header nested too deep": _envelope_raw(b"[" * 100_000, data),
+        "Integer beyond fmi2Integer": edit(values={**values, "method_used": 2 ** 32 + 2}),
+        "huge Integer": edit(values={**values, "method_used": 2 ** 70}),
     }
 
 
@@ -158,3 +161,21 @@ def test_state_of_another_fmu_is_refused(fmus):
         with pytest.raises(FMICallException):
             b.fmu.deSerializeFMUstate(blob)
         assert "belongs to the FMU with GUID" in b.errors()[-1]
+
+
+def test_state_of_a_table_outside_its_domain_is_restored(fmus):
+    # a/b = 11.5 (a 10 mm rail crown) is outside the table: the exact method solves the steps
+    # (method_used 4), said once as a warning; the state, whose result is the exact method's,
+    # is restored and continues the run bit for bit.
+    with FmuInstance(fmus["full"], "t", {"method": "table", "R_rail_profile": 0.01}) as a:
+        run(a, INPUTS[:1])
+        assert a.get("method_used") == [cc.METHODS["exact"].code]
+        blob = a.fmu.serializeFMUstate(a.fmu.getFMUstate())
+        reference = run(a, INPUTS[1:2])
+        a.fmu.setFMUstate(a.fmu.deSerializeFMUstate(blob))
+        assert run(a, INPUTS[1:2]) == reference
+        warnings = [m for s, m in a.messages if s == WARNING]
+        assert len(warnings) == 1, warnings
+        assert "outside the domain of method 'table'" in warnings[0]
+        assert "solved by method 'exact'" in warnings[0]
+        assert a.errors() == []

@@ -77,6 +77,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self._mode = "instantiated"
         self._t0 = 0.0
         self._evaluator: contact_core.WheelRailEvaluator | None = None
+        self._handover_logged = False
         for spec in self._specs:
             if hasattr(type(self), spec.name) or spec.name.startswith("_"):
                 raise RuntimeError(f"variable name {spec.name!r} clashes with the slave class")
@@ -92,6 +93,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         # (FMI 2.0 sec. 4.2.4: fixed parameters only before fmi2ExitInitializationMode).
         self._readable = {t: {vr: s.name for vr, s in self._by_vr.items() if s.type == t}
                           for t in PYTHON_TYPES}
+        self._outputs = {vr for vr, s in self._by_vr.items() if s.causality == "output"}
         self._settable_by_mode = {
             mode: {t: {vr: s.name for vr, s in self._by_vr.items() if s.type == t
                        and (s.causality == "input" or (s.causality == "parameter"
@@ -136,21 +138,29 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
     def enter_initialization_mode(self):
         if self._expect_mode("fmi2EnterInitializationMode", "instantiated"):
             self._enter("initialization")
+            self._evaluator = None
 
     def exit_initialization_mode(self):
         if not self._expect_mode("fmi2ExitInitializationMode", "initialization"):
             return
+        if self._evaluator is not None or self._initial_outputs("fmi2ExitInitializationMode"):
+            self._enter("step")
+
+    def _initial_outputs(self, where: str) -> bool:
+        """Outputs have initial="calculated" (FMI 2.0 sec. 2.2.7): in Initialization Mode they
+        are computed from the parameters and inputs set so far, by a new evaluator (as for the
+        first step), when first read or at ``fmi2ExitInitializationMode``; a value set since
+        then drops them (``self._evaluator`` is None until they are computed)."""
         try:
             evaluator = contact_core.WheelRailEvaluator(self._config())
         except ValueError as e:  # names the parameter and its allowed range
-            self._reject(f"fmi2ExitInitializationMode: invalid parameter: {e}")
-            return
+            self._reject(f"{where}: invalid parameter: {e}")
+            return False
         self._evaluator = evaluator
-        # Outputs have initial="calculated": compute them from the inputs known now.
-        if self._step(self._t0, "fmi2ExitInitializationMode", Fmi2Status.error):
-            self._enter("step")
-        else:
-            self._evaluator = None
+        if self._step(self._t0, where, Fmi2Status.error):
+            return True
+        self._evaluator = None
+        return False
 
     def terminate(self):
         if self._expect_mode("fmi2Terminate", "step", "initialization"):
@@ -181,6 +191,12 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self.p0 = ev.p0
         self.slip_fraction = r.slip_fraction
         self.method_used = ev.method_code
+        if r.method != ev.config.method and not self._handover_logged:
+            self._handover_logged = True
+            self.log(f"{where} at t={t!r}: a/b = {ev.a / ev.b:.6g}, nu = {ev.nu:g} are outside "
+                     f"the domain of method {ev.config.method!r}; its steps are solved by method "
+                     f"{r.method!r} (method_used = {ev.method_code}); logged once",
+                     Fmi2Status.warning)
         if not r.converged:
             self.log(f"{where} at t={t!r}: method {r.method!r} stopped after {r.iterations} "
                      f"iterations at residual {r.residual!r}", Fmi2Status.warning)
@@ -219,6 +235,9 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
 
     def _get(self, vrs, kind: str) -> list:
         names = self._readable[kind]
+        if self._mode == "initialization" and self._evaluator is None and any(
+                vr in self._outputs for vr in vrs):
+            self._initial_outputs(f"fmi2Get{kind} in initialization mode")
         try:
             return [getattr(self, names[vr]) for vr in vrs]
         except KeyError:
@@ -235,6 +254,8 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             return
         for name, value in zip(names, values):
             setattr(self, name, value)
+        if self._mode == "initialization":
+            self._evaluator = None  # the initial outputs are computed again when read
 
     def _refuse_set(self, vrs, kind: str) -> None:
         if self._mode == "terminated":
@@ -295,7 +316,8 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
                 ev = self._evaluator
                 evaluator = (ev if ev is not None and ev.config == config
                              else contact_core.WheelRailEvaluator(config))
-                if st.result is not None and st.result.method != config.method:
+                used = (config.method, contact_core.METHODS[config.method].fallback)
+                if st.result is not None and st.result.method not in used:
                     raise ValueError(f"the state's result is of method {st.result.method!r}, "
                                      f"its parameters select {config.method!r}")
         except ValueError as e:

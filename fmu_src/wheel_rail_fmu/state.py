@@ -42,6 +42,7 @@ _DTYPES = {"<f8": np.float64, "|i1": np.int8}
 _MAX_HEADER = 1 << 20
 _MAX_ELEMENTS = 1 << 24
 _RESULT_FLOATS = ("Fx", "Fy", "Mz", "slip_fraction", "residual")
+_INT_MIN, _INT_MAX = -(1 << 31), (1 << 31) - 1  # fmi2Integer is a C int (32 bits)
 
 
 class StateError(ValueError):
@@ -112,7 +113,7 @@ def read(blob: bytes, guid: str, variables: Iterable[tuple[str, str, str]]) -> F
         raise StateError(f"the state's header length {n} is out of range")
     try:
         header = json.loads(body[_HEAD.size:_HEAD.size + n].decode("utf-8"))
-    except (UnicodeDecodeError, ValueError) as e:
+    except (UnicodeDecodeError, ValueError, RecursionError) as e:  # (nested too deep)
         raise StateError(f"the state's header is not valid JSON: {e}") from None
     _expect(isinstance(header, dict)
             and set(header) == {"guid", "mode", "values", "result", "arrays"},
@@ -143,6 +144,9 @@ def _values(values: Any, variables: list[tuple[str, str, str]]) -> dict[str, Any
         _expect(type(v) is PYTHON_TYPES[typ], f"{name}={v!r} in the state is not of type {typ}")
         if typ == "Real" and causality != "input":
             _expect(math.isfinite(v), f"{name}={v!r} in the state is not finite")
+        if typ == "Integer":
+            _expect(_INT_MIN <= v <= _INT_MAX, f"{name}={v!r} in the state is out of range: "
+                    f"allowed {_INT_MIN} <= {name} <= {_INT_MAX} (fmi2Integer)")
     return values
 
 

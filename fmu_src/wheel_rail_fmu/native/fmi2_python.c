@@ -18,7 +18,8 @@
  *  - the slave module is imported by file under its own name (FMUs share modules only when
  *    their names are equal; this project's FMUs name theirs after a digest of their code), and
  *    resources/ is appended to sys.path, not put first, so project files stay importable as
- *    with pythonfmu without shadowing the host's modules;
+ *    with pythonfmu without shadowing the host's modules (and removed from it by a later load
+ *    once the host has deleted the folder, so that sys.path does not grow with every run);
  *  - fmuGUID is checked against the model description next to resources/ (FMI 2.0 sec. 2.1.5);
  *  - every reference is released exactly once; logged messages are released after delivery;
  *    messages are passed as "%s" arguments, never as format strings;
@@ -51,11 +52,13 @@
 #endif
 
 /* Key in sys.modules of the helper module below (versioned: another build may define its own). */
-#define LOADER_MODULE "_fmi2_python_loader_2"
+#define LOADER_MODULE "_fmi2_python_loader_3"
 
 static const char LOADER_SOURCE[] =
     "import importlib.util, sys, traceback\n"
     "from pathlib import Path\n"
+    "\n"
+    "ADDED = []\n"
     "\n"
     "def load(resources, guid):\n"
     "    folder = Path(resources)\n"
@@ -65,8 +68,14 @@ static const char LOADER_SOURCE[] =
     "        own = ET.parse(md).getroot().get('guid')\n"
     "        if own != guid:\n"
     "            raise ValueError(f'fmuGUID {guid} is not the GUID of this FMU, {own}')\n"
+    "    # resources/ folders this loader added that hosts have since deleted leave sys.path\n"
+    "    for p in [p for p in ADDED if not Path(p).is_dir()]:\n"
+    "        ADDED.remove(p)\n"
+    "        while p in sys.path:\n"
+    "            sys.path.remove(p)\n"
     "    if str(folder) not in sys.path:\n"
     "        sys.path.append(str(folder))\n"
+    "        ADDED.append(str(folder))\n"
     "    name = (folder / 'slavemodule.txt').read_text(encoding='utf-8').strip()\n"
     "    module = sys.modules.get(name)\n"
     "    if module is None:\n"
@@ -460,6 +469,7 @@ fmi2Status fmi2Reset(fmi2Component c) {
     if (in == NULL || in->cls == NULL) return fmi2Error;
     PyGILState_STATE g = PyGILState_Ensure();
     fmi2Status s = make_slave(in, "fmi2Reset");
+    if (s == fmi2OK) in->last_time = 0.0;
     PyGILState_Release(g);
     return s;
 }
