@@ -27,7 +27,7 @@ import math
 from dataclasses import dataclass
 
 from scipy.optimize import brentq
-from scipy.special import ellipkm1, elliprd, elliprf
+from scipy.special import ellipe, ellipkm1, elliprd, elliprf
 
 from .material import contact_modulus
 
@@ -38,6 +38,21 @@ CURVATURE_RATIO_RANGE: tuple[float, float] = (1e-3, 1e3)
 def max_pressure(N: float, a: float, b: float) -> float:
     """Hertz's peak pressure p0 = 3N/(2πab), Pa (Kalker 1979, eq 3 at the centre)."""
     return 3.0 * N / (2.0 * math.pi * a * b)
+
+
+def coulomb_spin_moment(mu_n: float, a: float, b: float) -> float:
+    """The largest spin moment Coulomb's law allows on a Hertz patch, μ∫ p_n r dA, N·m
+    (``mu_n`` = μN in N; semi-axes ``a``, ``b`` in m).
+
+    Every traction with |p| <= μ p_n (Coulomb, Kalker 1979 eq 4) has |Mz| <= μ ∫ p_n r dA, r the
+    distance from the centre. With Hertz's pressure p_n = p0 √(1 - x²/a² - y²/b²) (Kalker 1979,
+    eq 3) and x = aρ cos θ, y = bρ sin θ, the integral is p0 ab ∫₀¹ ρ²√(1-ρ²) dρ ∮ √(a² cos²θ +
+    b² sin²θ) dθ = p0 ab (π/16) P, P the ellipse's perimeter: the bound is 3 μN P/32 (3π/16 μNa
+    on a circle). P = 4α E(1 - β²/α²), α >= β the semi-axes and E the complete elliptic integral
+    of the second kind; since E >= 1 the bound is at least 3 μN α/8.
+    """
+    hi, lo = (a, b) if a >= b else (b, a)
+    return 0.375 * mu_n * hi * float(ellipe(1.0 - (lo / hi) ** 2))
 
 
 @dataclass(frozen=True)

@@ -21,6 +21,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import contact_core as cc
+from contact_core.hertz import coulomb_spin_moment
 
 settings.register_profile("ci", max_examples=150, deadline=None, derandomize=True,
                           suppress_health_check=[HealthCheck.too_slow])
@@ -53,6 +54,10 @@ def forces_ok(method, r, kw):
     assert 0.0 <= r.slip_fraction <= 1.0
     if method in SATURATING:
         assert math.hypot(r.Fx, r.Fy) <= kw["mu"] * kw["N"] * (1 + ROUND), (method, kw, r)
+    if method == "johnson_vermeulen":  # its moment is held to Coulomb's (the grids' pressures
+        # differ from Hertz's by their discretisation: up to 0.8 % above it on 8×8, measured)
+        bound = coulomb_spin_moment(kw["mu"] * kw["N"], kw["a"], kw["b"])
+        assert abs(r.Mz) <= bound * (1 + ROUND), (method, kw, r)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -100,3 +100,20 @@ def test_bad_radii_name_the_argument():
         cc.wheel_rail_curvatures(0.46, math.inf, 0.0)
     with pytest.raises(ValueError, match="B=.*allowed"):  # concave wheel tighter than the rail
         cc.hertz_from_radii(1e5, 0.46, -0.2, 0.3, E, NU)
+
+
+@pytest.mark.parametrize("ab", [0.05, 0.3, 1.0, 4.0, 20.0])
+def test_coulomb_spin_moment_is_the_integral_of_mu_p_r(ab):
+    # μ∫ p_n r dA over the Hertz ellipse (Kalker 1979, eq 3), integrated numerically in polar
+    # coordinates of the ellipse; on a circle 3π/16 μNa.
+    from scipy.integrate import dblquad
+    from contact_core.hertz import coulomb_spin_moment, max_pressure
+    mu_n, b = 3e4, 0.004
+    a = ab * b
+    p0 = max_pressure(1.0, a, b)  # per N of load
+    integral, _ = dblquad(lambda rho, t: math.sqrt(1 - rho * rho) * rho * a * b * rho
+                          * math.hypot(a * math.cos(t), b * math.sin(t)),
+                          0.0, 2 * math.pi, 0.0, 1.0, epsabs=0.0, epsrel=1e-10)
+    assert coulomb_spin_moment(mu_n, a, b) == pytest.approx(mu_n * p0 * integral, rel=1e-8)
+    assert coulomb_spin_moment(mu_n, b, b) == pytest.approx(3 * math.pi / 16 * mu_n * b,
+                                                            rel=1e-12)

@@ -118,6 +118,26 @@ def test_spin_modes(wheel_rail_case):
     assert abs(big.Fy) == pytest.approx(c["mu"] * c["N"], rel=1e-12)
 
 
+@pytest.mark.parametrize("ab", [0.05, 0.1, 0.3, 1.0, 3.0, 10.0, 20.0])
+@pytest.mark.parametrize("eta_share", [0.0, 1.0, -1.0])
+def test_spin_moment_within_coulombs_bound(ab, eta_share):
+    # No traction with |p| <= μ p_n has |Mz| > μ∫ p_n r dA (Kalker 1979, eq 4); the SHE scaling
+    # alone exceeds it at large spin, most where the linear lateral force's η and φ terms cancel
+    # (eta_share = -1: η = -c C23 φ / C22).
+    from contact_core.hertz import coulomb_spin_moment
+    N, mu, G, nu, b = 1e5, 0.3, 8e10, 0.28, 0.006
+    a = ab * b
+    c = math.sqrt(a * b)
+    _, c22, c23, _ = cc.creep_coefficients(ab, nu)
+    bound = coulomb_spin_moment(mu * N, a, b)
+    for s in (0.3, 3.0, 30.0, 3e3):
+        phi = s * mu * N / (G * a * b * c)
+        eta = -eta_share * c * c23 * phi / c22
+        r = cc.solve("johnson_vermeulen", xi=0.0, eta=eta, phi=phi, N=N, mu=mu, a=a, b=b, G=G,
+                     nu=nu)
+        assert abs(r.Mz) <= bound * (1 + 1e-12), (s, r.Mz / bound)
+
+
 def test_options_are_validated(wheel_rail_case):
     with pytest.raises(ValueError, match="variant=.*allowed"):
         _jv(wheel_rail_case | _zero(), variant="johnson")
