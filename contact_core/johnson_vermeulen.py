@@ -122,7 +122,9 @@ class JohnsonVermeulen(ContactMethod):
                 s = 1.0 - tau / 3.0
                 eps, slip = (1.0 - s * s * s) / tau, 1.0 - s * s
         mz *= eps
-        if self.effects.saturation and abs(mz) > 0.375 * mu * N * max(a, b):  # may pass the bound
+        # 3μNα/8 never exceeds the bound (coulomb_spin_moment): the elliptic integral only
+        # where the moment may pass it
+        if self.effects.saturation and abs(mz) > 0.375 * mu * N * max(a, b):
             mz = math.copysign(min(abs(mz), coulomb_spin_moment(mu * N, a, b)), mz)
         eff = self.effects
         return make_result(eps * fx if eff.longitudinal else 0.0,

@@ -111,12 +111,12 @@ def test_spin_moment_coefficient_c33_small_ab(ab):
     assert abs(_rel_err(ab, 40)[3]) < abs(_rel_err(ab, 20)[3])
 
 
-def _c33(ab: float, m: int) -> float:
-    """C33 from a tiny spin (φ c = 1e-6, all stick) on an m×m grid."""
+def _c33(ab: float, m: int, my: int | None = None) -> float:
+    """C33 from a tiny spin (φ c = 1e-6, all stick) on an m×m grid (m×my with ``my``)."""
     a, b = _patch(ab)
     c = math.sqrt(a * b)
     r = cc.solve("exact", xi=0.0, eta=0.0, phi=1e-6 / c, N=1e5, mu=0.3, a=a, b=b, G=G, nu=NU,
-                 mx=m, my=m, extrapolate=False)
+                 mx=m, my=m if my is None else my, extrapolate=False)
     assert r.converged
     return -r.Mz / (G * c ** 3 * 1e-6)
 
@@ -148,14 +148,7 @@ def test_spin_moment_coefficient_c33_round_contact_richardson():
 def test_spin_moment_coefficient_c33_elongated_contact():
     # Kalker 1990, Table E.3, a/b = 5: C33 from a tiny spin on square elements, the two grids'
     # first-order (staircase-boundary) limit within 5 % of the table.
-    a, b = _patch(5.0)
-    c = math.sqrt(a * b)
-    c33 = []
-    for my in (16, 32):
-        r = cc.solve("exact", xi=0.0, eta=0.0, phi=1e-6 / c, N=1e5, mu=0.3, a=a, b=b, G=G,
-                     nu=NU, mx=5 * my, my=my, extrapolate=False)
-        assert r.converged
-        c33.append(-r.Mz / (G * c ** 3 * 1e-6))
+    c33 = [_c33(5.0, 5 * my, my) for my in (16, 32)]
     assert 2 * c33[1] - c33[0] == pytest.approx(_table(5.0)[3], rel=0.05), c33
 
 
