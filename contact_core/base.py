@@ -126,6 +126,14 @@ def _moderate(xi: float, eta: float, phi: float, N: float, mu: float, a: float, 
     return False
 
 
+def _onto_bound(fx: float, fy: float, bound: float) -> tuple[float, float]:
+    """(fx, fy) moved towards 0 by ulps until |F| <= bound (a rounding guard; nothing else)."""
+    while math.hypot(fx, fy) > bound:
+        fx = math.nextafter(fx, 0.0)
+        fy = math.nextafter(fy, 0.0)
+    return fx, fy
+
+
 # Similarity units (ContactMethod._similar).
 _P0 = 3.0 / (2.0 * math.pi)         # p0 = _P0 N/(ab) (hertz.max_pressure; Kalker 1979 eq 3)
 _LOG_P0 = math.log(_P0)
@@ -179,7 +187,10 @@ class ContactMethod(ABC):
              G: float, nu: float, warm_start: ContactResult | None = None) -> ContactResult:
         """Solve one contact state (SI units; see ``contact_core.solve`` for the arguments)."""
         if self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu, self._saturates):
-            return self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+            r = self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+            if self._saturates and math.hypot(r.Fx, r.Fy) > mu * N:
+                return self._held(r, mu * N)
+            return r
         check_inputs(xi, eta, phi, N, mu, a, b, G, nu)
         eff = self.effects
         if (xi and not eff.longitudinal) or (eta and not eff.lateral) or (phi and not eff.spin):
@@ -192,8 +203,18 @@ class ContactMethod(ABC):
             return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
         # with every input selected, _moderate was already False above
         if not self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu, self._saturates):
-            return self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+            r = self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+            if self._saturates and math.hypot(r.Fx, r.Fy) > mu * N:
+                return self._held(r, mu * N)
+            return r
         return self._similar(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+
+    @staticmethod
+    def _held(r: ContactResult, bound: float) -> ContactResult:
+        """``r`` with |F| <= μN (``bound``) in floating point, as users check it: a force formed
+        as μN times a unit direction, or scaled down onto the bound, can land an ulp above it."""
+        fx, fy = _onto_bound(r.Fx, r.Fy, bound)
+        return replace(r, Fx=fx, Fy=fy)
 
     def _similar(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
                  b: float, G: float, nu: float, warm_start: Any) -> ContactResult:
@@ -252,11 +273,8 @@ class ContactMethod(ABC):
                              "overflows: allowed creepages whose force is below 1.8e308 N "
                              f"({why})")
         if sat:
-            # Rounding guard for tiny loads (subnormal μN has few significant digits): |F| <= μN.
-            bound = mu * N
-            while math.hypot(out[0], out[1]) > bound:
-                out[0] = math.nextafter(out[0], 0.0)
-                out[1] = math.nextafter(out[1], 0.0)
+            # rounding, most of all for tiny loads (subnormal μN has few significant digits)
+            out[0], out[1] = _onto_bound(out[0], out[1], mu * N)
         fields = r.fields
         if fields is not None:  # traction maps in SI units (a method's fields.scaled)
             try:

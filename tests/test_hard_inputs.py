@@ -16,6 +16,7 @@ import math
 import os
 import warnings
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
@@ -34,7 +35,7 @@ SOLVERS = {"linear": {}, "johnson_vermeulen": {}, "fastsim": {"nx": 10, "ny": 10
            "exact": {"mx": 8, "my": 8, "extrapolate": False}, "table": {}}
 SATURATING = ("johnson_vermeulen", "fastsim", "exact", "table")
 ARGS = ("xi", "eta", "phi", "N", "mu", "a", "b", "G", "nu")
-#: Small slack for rounding in the bound (relative to μN).
+#: Small slack for rounding in the moment's bound (relative to it); the force bound has none.
 ROUND = 1e-9
 
 anything = st.floats(allow_nan=False, allow_infinity=False)
@@ -53,7 +54,7 @@ def forces_ok(method, r, kw):
     assert all(math.isfinite(v) for v in (r.Fx, r.Fy, r.Mz)), (method, kw, r)
     assert 0.0 <= r.slip_fraction <= 1.0
     if method in SATURATING:
-        assert math.hypot(r.Fx, r.Fy) <= kw["mu"] * kw["N"] * (1 + ROUND), (method, kw, r)
+        assert math.hypot(r.Fx, r.Fy) <= kw["mu"] * kw["N"], (method, kw, r)
     if method == "johnson_vermeulen":
         # held to Coulomb's bound on the moment; the discretised methods' pressures are their
         # grids', up to 0.8 % above the continuum's bound on 8×8 (measured), so not checked here
@@ -176,6 +177,26 @@ def test_longitudinal_force_grows_with_xi_up_to_mu_n(method, N, mu, ab, c, nu, s
     assert -sign * f_lo >= 0.0 and -sign * f_hi >= 0.0       # opposes ξ
     sliding = solve(method, **(kw | dict(xi=sign * 1e12 / k))).Fx
     assert abs(sliding) == pytest.approx(mu * N, rel=1e-6)
+
+
+@pytest.mark.parametrize("method", SATURATING)
+def test_saturated_force_is_within_mu_n_to_the_last_bit(method):
+    """Coulomb's bound as a user checks it, ``hypot(Fx, Fy) <= mu * N`` in floating point, on
+    seeded states around saturation (|σ| from 0.3 to 30 times the onset of full sliding, every
+    direction, spin). A force formed as μN times a unit direction lands an ulp above μN in about
+    one call in seven of Johnson–Vermeulen's without a final guard."""
+    rng = np.random.default_rng(20261127)
+    n = 40 if method == "exact" else 2000
+    for _ in range(n):
+        kw = _case(0.0, 0.0, 0.0, 10.0 ** rng.uniform(0, 6), rng.uniform(0.05, 1.0),
+                   math.exp(rng.uniform(math.log(0.05), math.log(20.0))),
+                   10.0 ** rng.uniform(-3.5, -2.0), 8e10, 0.28, method)
+        size = 3.0 * 10.0 ** rng.uniform(-1, 1) / _sigma_scale(kw)
+        t = rng.uniform(0.0, 2.0 * math.pi)
+        kw |= dict(xi=size * math.cos(t), eta=size * math.sin(t),
+                   phi=rng.normal() * size / math.sqrt(kw["a"] * kw["b"]))
+        r = solve(method, **kw)
+        assert math.hypot(r.Fx, r.Fy) <= kw["mu"] * kw["N"], (method, kw, r)
 
 
 @pytest.mark.parametrize("method", SATURATING)
