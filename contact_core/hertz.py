@@ -44,7 +44,7 @@ def coulomb_spin_moment(mu_n: float, a: float, b: float) -> float:
     """The largest spin moment Coulomb's law allows on a Hertz patch, μ∫ p_n r dA, N·m
     (``mu_n`` = μN in N; semi-axes ``a``, ``b`` in m).
 
-    Every traction with |p| <= μ p_n (Coulomb, Kalker 1979 eq 4) has |Mz| <= μ ∫ p_n r dA, r the
+    Every traction with |p| <= μ p_n (Coulomb, Kalker 1979 eq 5) has |Mz| <= μ ∫ p_n r dA, r the
     distance from the centre. With Hertz's pressure p_n = p0 √(1 - x²/a² - y²/b²) (Kalker 1979,
     eq 3) and x = aρ cos θ, y = bρ sin θ, the integral is p0 ab ∫₀¹ ρ²√(1-ρ²) dρ ∮ √(a² cos²θ +
     b² sin²θ) dθ = p0 ab (π/16) P, P the ellipse's perimeter: the bound is 3 μN P/32 (3π/16 μNa
@@ -53,6 +53,15 @@ def coulomb_spin_moment(mu_n: float, a: float, b: float) -> float:
     """
     hi, lo = (a, b) if a >= b else (b, a)
     return 0.375 * mu_n * hi * float(ellipe(1.0 - (lo / hi) ** 2))
+
+
+def held_spin_moment(mz: float, mu_n: float, a: float, b: float) -> float:
+    """``mz`` (N·m) held to Coulomb's bound :func:`coulomb_spin_moment`, its sign kept, for a
+    method whose moment is not a sum of tractions within the bound (a scaled or interpolated one).
+    The elliptic integral only where ``mz`` may pass the bound: 3μNα/8 never does."""
+    if abs(mz) > 0.375 * mu_n * (a if a > b else b):
+        return math.copysign(min(abs(mz), coulomb_spin_moment(mu_n, a, b)), mz)
+    return mz
 
 
 @dataclass(frozen=True)

@@ -55,7 +55,7 @@ from scipy.special import elliprd, elliprf
 from .cache import cached
 from .base import ContactMethod, choice_option
 from .coefficients import creep_coefficients
-from .hertz import coulomb_spin_moment
+from .hertz import held_spin_moment
 from .result import make_result
 
 
@@ -122,10 +122,8 @@ class JohnsonVermeulen(ContactMethod):
                 s = 1.0 - tau / 3.0
                 eps, slip = (1.0 - s * s * s) / tau, 1.0 - s * s
         mz *= eps
-        # 3μNα/8 never exceeds the bound (coulomb_spin_moment): the elliptic integral only
-        # where the moment may pass it
-        if self.effects.saturation and abs(mz) > 0.375 * mu * N * max(a, b):
-            mz = math.copysign(min(abs(mz), coulomb_spin_moment(mu * N, a, b)), mz)
+        if self.effects.saturation:
+            mz = held_spin_moment(mz, mu * N, a, b)
         eff = self.effects
         return make_result(eps * fx if eff.longitudinal else 0.0,
                              eps * fy if eff.lateral else 0.0,

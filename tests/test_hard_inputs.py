@@ -55,7 +55,7 @@ def forces_ok(method, r, kw):
     assert 0.0 <= r.slip_fraction <= 1.0
     if method in SATURATING:
         assert math.hypot(r.Fx, r.Fy) <= kw["mu"] * kw["N"], (method, kw, r)
-    if method == "johnson_vermeulen":
+    if method in ("johnson_vermeulen", "table"):
         # held to Coulomb's bound on the moment; the discretised methods' pressures are their
         # grids', up to 0.8 % above the continuum's bound on 8×8 (measured), so not checked here
         bound = coulomb_spin_moment(kw["mu"] * kw["N"], kw["a"], kw["b"])

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import contact_core as cc
+from contact_core.hertz import coulomb_spin_moment
 from contact_core.table import TableDomainWarning, data
 from contact_core.table.build import (AXES, DEFAULT_FINE_GRID, DEFAULT_GRID, DEFAULT_TOL,
                                       DEFAULT_TOL_SLIDING, FINE_INSIDE, SESSIONS, SLIDING,
@@ -133,6 +134,41 @@ def test_zero_creepage_zero_load_and_symmetries():
     assert (rx.Fx, rx.Fy, rx.Mz) == (-r.Fx, r.Fy, r.Mz)
     assert (ry.Fx, ry.Fy, ry.Mz) == (r.Fx, -r.Fy, -r.Mz)
     assert r.Fx < 0 and math.hypot(r.Fx, r.Fy) <= MU * N
+
+
+def test_negative_zero_creepage_keeps_the_symmetries():
+    """ξ = -0.0 (e.g. -(v - v)/V in a simulation) is ξ = 0: Fx(-ξ) = -Fx(ξ), Fy and Mz even in ξ
+    (Kalker 1979 sec. 2), to the bit, with a large spin where Fx(ξ = 0) is not exactly 0."""
+    a, b = _patch(5.0)
+    kw = dict(eta=0.0, phi=3.0, N=N, mu=MU, a=a, b=b, G=G, nu=0.28)
+    p, m = cc.solve("table", xi=0.0, **kw), cc.solve("table", xi=-0.0, **kw)
+    assert (m.Fx, m.Fy, m.Mz) == (-p.Fx, p.Fy, p.Mz)
+    assert abs(p.Fx) < 1e-6 * MU * N
+
+
+def test_poisson_ratio_within_rounding_of_the_range_is_inside():
+    """ν = 0.1 + 0.2 (0.30000000000000004) and ν one ulp below 0.25 are the table's ends, not a
+    fallback to the exact method (as a/b a few ulps outside its axis)."""
+    a, b = _patch(1.5)
+    kw = dict(xi=5e-4, eta=1e-4, phi=0.5, N=N, mu=MU, a=a, b=b, G=G)
+    for nu, end in ((0.1 + 0.2, 0.30), (math.nextafter(0.25, 0.0), 0.25)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", TableDomainWarning)
+            r = cc.solve("table", **kw, nu=nu)
+        ref = cc.solve("table", **kw, nu=end)
+        assert r.method == "table"
+        assert (r.Fx, r.Fy, r.Mz) == pytest.approx((ref.Fx, ref.Fy, ref.Mz), rel=1e-9)
+
+
+def test_spin_moment_is_within_coulombs_bound():
+    """Interpolation between nodes may overshoot; no traction with |p| <= μ p_n gives more than
+    μ∫p_n r dA (Coulomb, Kalker 1979 eq 5; hertz.coulomb_spin_moment). Near full sliding with
+    large spin and a/b = 7.6 the lookup gave 1.00066 of it."""
+    a, b = 0.013786, 0.0018134
+    r = cc.solve("table", xi=1.91384e-4, eta=-0.01725439, phi=51.922, N=N, mu=MU, a=a, b=b,
+                 G=G, nu=0.29)
+    assert abs(r.Mz) <= coulomb_spin_moment(MU * N, a, b)
+    assert r.Mz < 0.0
 
 
 def test_outside_the_table_falls_back_to_exact_with_a_warning():

@@ -68,10 +68,8 @@ def _polar(u0: float, u1: float, u2: float) -> tuple[float, float, float, float,
     """(sx, sy, θ, ψ, s) of the table coordinates (u0, u1, u2) (:mod:`.grid`): the symmetries
     ξ -> -ξ (sign sx of Fx) and (η, φ) -> -(η, φ) (sign sy of Fy and Mz) bring u into the
     tabulated quarter u0, u1 >= 0. s = 0 is the origin."""
-    sx = 1.0
-    if u0 < 0.0:
-        u0 = -u0
-        sx = -1.0
+    sx = math.copysign(1.0, u0)     # -0.0 too: atan2(u1, -0.0) would be ψ = π, off the axis
+    u0 = abs(u0)
     sy = 1.0
     if u1 < 0.0:
         u1 = -u1

@@ -32,14 +32,15 @@ from ..base import ContactMethod
 from ..cache import cached
 from ..coefficients import SPLINE
 from ..exact import Exact
+from ..hertz import held_spin_moment
 from ..linear import LinearTheory
 from ..result import make_result
 from . import data
 from .interp import kernels, with_psi_ghosts
 
 
-#: a/b is accepted within a few ulps outside the axis (a and b rescaled by a common factor give
-#: an a/b that differs in its last digits).
+#: a/b and ν are accepted within a few ulps outside their axes (a and b rescaled by a common
+#: factor give an a/b that differs in its last digits; ν computed at run time, e.g. 0.1 + 0.2).
 _EDGE_LO, _EDGE_HI = 1.0 - 1e-12, 1.0 + 1e-12
 #: Kept per solver: the (a/b, ν) pairs met, at most ``_MAX_PAIRS`` (then forgotten with their
 #: slices), and for at most ``_MAX_SLICES`` of them, from their second call on, the scales and a
@@ -88,6 +89,7 @@ class Table(ContactMethod):
         self._spin_power = ax.spin_power
         self._ab_range = (ax.ab_lo, ax.ab_hi)
         self._nu_range = (ax.nu_lo, ax.nu_hi)
+        self._lo_nu, self._hi_nu = ax.nu_lo * _EDGE_LO, ax.nu_hi * _EDGE_HI
         self._lookup_state, self._scales, self._make_slice, self._lookup_slice = kernels()
         self._seen: set[tuple[float, float]] = set()
         #: (a/b, ν) -> C11, C22, w C23 (:func:`.interp._scales`) and the slice
@@ -102,8 +104,7 @@ class Table(ContactMethod):
         # takes two or three values in the last digits): a pair met twice gets a slice.
         kept = self._slices.get((ab, nu))
         if kept is None:
-            nu_lo, nu_hi = self._nu_range
-            if not (self._lo_ab <= ab <= self._hi_ab and nu_lo <= nu <= nu_hi):
+            if not (self._lo_ab <= ab <= self._hi_ab and self._lo_nu <= nu <= self._hi_nu):
                 return self._outside(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
             if self._linear is not None:    # without saturation μ may be 0: k divides by μN
                 return replace(self._linear.step(xi, eta, phi, N, mu, a, b, G, nu),
@@ -111,25 +112,30 @@ class Table(ContactMethod):
         c = math.sqrt(a * b)
         k = G * a * b / (mu * N)
         if kept is None:
-            inside = min(self._ab_range[1], max(self._ab_range[0], ab))  # an end, up to rounding
+            # a/b and ν brought onto the table's range (an end, up to rounding)
+            inside = min(self._ab_range[1], max(self._ab_range[0], ab))
+            nu_in = min(self._nu_range[1], max(self._nu_range[0], nu))
             breaks, pieces = SPLINE
             fx, fy, mz, slip = self._lookup_state(self._values, self._axes, breaks, pieces,
                                                   self._spin_power, xi, eta, phi, c, k, inside,
-                                                  nu)
-            self._meet(ab, nu, inside)
+                                                  nu_in)
+            self._meet(ab, nu, inside, nu_in)
         else:
             s_xi, s_eta, s_phi, slab = kept
             fx, fy, mz, slip = self._lookup_slice(slab, self._axes, s_xi * xi * k,
                                                   s_eta * eta * k, s_phi * c * phi * k)
         mun = mu * N
         eff = self.effects
+        # interpolation between nodes may cross Coulomb's bound on the moment (interp._finish
+        # holds |F| to μN)
         return make_result(fx * mun if eff.longitudinal else 0.0,
                            fy * mun if eff.lateral else 0.0,
-                           mz * mun * c if eff.spin else 0.0, self.name, slip)
+                           held_spin_moment(mz * mun * c, mun, a, b) if eff.spin else 0.0,
+                           self.name, slip)
 
-    def _meet(self, ab: float, nu: float, inside: float) -> None:
-        """Remember the pair (a/b, ν) (``inside``: a/b brought onto the table's range); at its
-        second call make its slice (see ``_MAX_PAIRS``)."""
+    def _meet(self, ab: float, nu: float, inside: float, nu_in: float) -> None:
+        """Remember the pair (a/b, ν) (``inside``, ``nu_in``: a/b and ν brought onto the table's
+        range); at its second call make its slice (see ``_MAX_PAIRS``)."""
         key = (ab, nu)
         if key not in self._seen:
             if len(self._seen) >= _MAX_PAIRS:
@@ -139,9 +145,9 @@ class Table(ContactMethod):
         elif len(self._slices) < _MAX_SLICES:
             breaks, pieces = SPLINE
             s_xi, s_eta, s_phi, log_ab = self._scales(breaks, pieces, self._spin_power, inside,
-                                                      nu)
+                                                      nu_in)
             self._slices[key] = (s_xi, s_eta, s_phi,
-                                 self._make_slice(self._values, self._axes, log_ab, nu))
+                                 self._make_slice(self._values, self._axes, log_ab, nu_in))
 
     def _outside(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         warnings.warn(f"table: a/b={a / b:g}, nu={nu:g} outside the table (a/b "
