@@ -52,8 +52,9 @@ Option ``flexibility``:
 
     which reduces to L1, L2 or L3 for pure ξ, η or φ (the two options then agree exactly). For
     combined creepage it is too flexible (at ξ = η, L ≈ √2 times the mean of L1 and L2): against
-    the converged exact theory its force error reaches 19 % of μN where "separate" stays below
-    5 % (docs/accuracy_vs_time.md).
+    the converged exact theory (the benchmark's 400 cases, 20×20, parabolic bound, measured
+    2026-11-27) its |F| error under (ξ, η) is p95 / max 12.3 / 15.7 % of μN where "separate"
+    gives 1.5 / 1.9.
 
 ``"blended-contact"`` — Vollebregt and Voltr's blend (E. A. H. Vollebregt & P. Voltr, *Improved
     accuracy for FASTSIM using one or three flexibility values*, Vehicle System Dynamics 61 (2023)
@@ -137,10 +138,10 @@ the contact centre, same sign convention as linear theory).
     against the exact theory, not against FASTSIM's own grid limit: simplified theory
     under-estimates the force in partial slip, and the first-order excess at 20×20 makes up for
     much of it (benchmark, 400 cases, 20×20, parabolic bound, flexibility "separate", |F| error
-    p95 / max in % of μN: pure ξ 1.5 / 1.8 against 3.4 / 4.2 with "midpoint", pure φ 6.3 / 7.4
-    against 9.7 / 11.6; on CONTACT's published ``tractcurv`` creep curve, exact, 48×44, at 20×20
-    within 1.9 % of μN where "midpoint" is within 4.8 % and CONTACT's own FASTSIM (48×44) within
-    3.9 %; docs/fastsim.md, tests).
+    p95 / max in % of μN, measured 2026-11-24: pure ξ 1.5 / 1.8 against 3.4 / 4.2 with
+    "midpoint", pure φ 6.3 / 7.4 against 9.7 / 11.6; on CONTACT's published ``tractcurv`` creep
+    curve, exact, 48×44, at 20×20 within 1.9 % of μN where "midpoint" is within 4.8 % and
+    CONTACT's own FASTSIM (48×44) within 3.9 %; docs/fastsim.md, tests).
     The layout was taken from CONTACT (Kalker's 1982 listing was not available to check it
     against): this module reproduces CONTACT's ``tractcurv`` FASTSIM column (parabolic bound,
     48×44 rectangular grid) within 1 % at every published point at the comparable nx = 44,

@@ -80,9 +80,17 @@ extrapolating, each grid is therefore mapped to the continuum's area by Kalker's
 only through ξ G c²/(μN), η G c²/(μN), φ G c³/(μN)): a grid whose contact area is k πab is solved
 as the ellipse of semi-axes √k a, √k b, i.e. with creepages ξ/k, η/k, φ/k^1.5, and its Mz divided
 by √k. After the combination |F| is held to μN and |Mz| to μ ∫ p_n r dA (Coulomb's bounds, which
-each grid meets but a combination need not). The fields and the warm state are the fine grid's; the
-half grid starts cold. Measured on the benchmark's 400 cases (docs/accuracy_vs_time.md) and against
-Kalker's table
+each grid meets but a combination need not). Far from the asymptotic range the combination can
+reverse a sign both grids agree on: Mz of small pure spin with elements a/b times as long as wide,
+from a/b = 12 on 16×16 and 15 on 24×24 extrapolated (about 0.05 % of μN·c, but of the wrong sign).
+A guard that kept the fine grid's value there was tried and not kept: near a component's zero
+crossing (e.g. Fy where the η and φ terms cancel) the reversal is the correction working, and the
+guard also fired in the toy table build (a/b = 0.1, 16×16). Beyond a/b = 10 that moment
+converges slowly on any grid (a/b = 20, cφ = 5e-6, over linear theory's with C33 held at
+a/b = 10: 1.51, 0.85, 0.90, 0.66 on 32², 40², 48², 52² extrapolated; 0.91, 0.71, 0.60 on
+160×16, 240×24, 320×32; measured 2026-11-27). The fields and the warm state are the fine
+grid's; the half grid starts cold. Measured on the benchmark's 400 cases
+(docs/accuracy_vs_time.md) and against Kalker's table
 at ν = 0.25, a/b 0.1..10 (pure ξ, η):
 
     ==================  ===============  ===================  ========
