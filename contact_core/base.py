@@ -186,28 +186,27 @@ class ContactMethod(ABC):
     def step(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
              G: float, nu: float, warm_start: ContactResult | None = None) -> ContactResult:
         """Solve one contact state (SI units; see ``contact_core.solve`` for the arguments)."""
-        if self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu, self._saturates):
-            r = self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
-            if self._saturates and math.hypot(r.Fx, r.Fy) > mu * N:
-                return self._held(r, mu * N)
-            return r
-        check_inputs(xi, eta, phi, N, mu, a, b, G, nu)
-        eff = self.effects
-        if (xi and not eff.longitudinal) or (eta and not eff.lateral) or (phi and not eff.spin):
-            off = [n for n, v, on in (("xi", xi, eff.longitudinal), ("eta", eta, eff.lateral),
-                                      ("phi", phi, eff.spin)) if v and not on]
-            raise ValueError(f"{off[0]} is non-zero but its effect is not selected "
-                             f"(effects={list(eff.names())}); pass 0.0 or select the effect")
-        if N == 0.0 or (mu == 0.0 and self._saturates):
-            # Wheel lifted (no load) or frictionless contact: no tangential force.
-            return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
-        # with every input selected, _moderate was already False above
-        if not self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu, self._saturates):
-            r = self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
-            if self._saturates and math.hypot(r.Fx, r.Fy) > mu * N:
-                return self._held(r, mu * N)
-            return r
-        return self._similar(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+        if not (self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu,
+                                               self._saturates)):
+            check_inputs(xi, eta, phi, N, mu, a, b, G, nu)
+            eff = self.effects
+            if (xi and not eff.longitudinal) or (eta and not eff.lateral) or (phi and not eff.spin):
+                off = [n for n, v, on in (("xi", xi, eff.longitudinal),
+                                          ("eta", eta, eff.lateral), ("phi", phi, eff.spin))
+                       if v and not on]
+                raise ValueError(f"{off[0]} is non-zero but its effect is not selected "
+                                 f"(effects={list(eff.names())}); pass 0.0 or select the effect")
+            if N == 0.0 or (mu == 0.0 and self._saturates):
+                # Wheel lifted (no load) or frictionless contact: no tangential force.
+                return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
+            # with every input selected, _moderate was already False above
+            if self._all_inputs or not _moderate(xi, eta, phi, N, mu, a, b, G, nu,
+                                                 self._saturates):
+                return self._similar(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+        r = self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+        if self._saturates and math.hypot(r.Fx, r.Fy) > mu * N:
+            return self._held(r, mu * N)
+        return r
 
     @staticmethod
     def _held(r: ContactResult, bound: float) -> ContactResult:
