@@ -151,9 +151,12 @@ def test_pythonfmu_binary_fallback(tmp_path):
         "except FMICallException as e:\n"
         "    refused = e.status == 2\n"
         "print(json.dumps([float(r['Fx'][-1]), refused, bad.errors()]))\n")
-    out = subprocess.run([sys.executable, "-c", code, str(fmu)], check=True, capture_output=True,
-                         text=True, cwd=tmp_path).stdout
-    fx, refused, errors = json.loads(out.splitlines()[-1])
+    run = subprocess.run([sys.executable, "-c", code, str(fmu)], capture_output=True, text=True,
+                         cwd=tmp_path)
+    # the host's own output says why, should it ever die (once SIGABRT in a CI run, 2026-11-27;
+    # not reproduced in 100 runs alone and under load)
+    assert run.returncode == 0, (run.returncode, run.stderr[-3000:])
+    fx, refused, errors = json.loads(run.stdout.splitlines()[-1])
     assert fx == solve("johnson_vermeulen", "traction", xi=1e-3).Fx
     assert refused and any("E=-1.0 is out of range" in m for m in errors)
 
