@@ -184,10 +184,17 @@ INVALID = [("traction", "mu", -0.1, "mu=-0.1 is out of range: allowed 0 <= mu"),
            ("full", "R_rail_profile", math.nan, "R_rail_profile=nan is out of range"),
            ("full", "method", "jv", "method='jv' is unknown: allowed ['linear'"),
            ("traction", "variant", "nope", "variant='nope' is invalid: allowed"),
-           ("full", "invalid_input", "ignore", "invalid_input='ignore' is invalid: allowed")]
+           ("full", "invalid_input", "ignore", "invalid_input='ignore' is invalid: allowed"),
+           # an option of a method other than the selected one is checked, not ignored
+           ("traction", "nx", 0, "nx=0 is invalid: allowed an integer 1 <= nx <= 2000 (elements "
+            "per strip) (a parameter of method 'fastsim', checked although "
+            "method='johnson_vermeulen' is selected)"),
+           ("full", "tol", 0.0, "tol=0.0 is invalid: allowed a number 0 < tol < 1 (a parameter "
+            "of method 'exact', checked although method='table' is selected)")]
 #: A valid value of each parameter above.
 VALID = {"mu": 0.3, "E": 2e11, "nu": 0.3, "R_wheel": 0.5, "R_wheel_profile": 0.0,
-         "R_rail_profile": 0.3, "method": "linear", "variant": "kalker", "invalid_input": "error"}
+         "R_rail_profile": 0.3, "method": "linear", "variant": "kalker", "invalid_input": "error",
+         "nx": 20, "tol": 1e-5}
 
 
 @pytest.mark.parametrize("scene, name, value, message", INVALID)

@@ -61,6 +61,28 @@ def test_state_restores_parameters_and_mode(fmus):
         assert b.get("method_used", "E") == [2, 180e9]
 
 
+def test_state_restores_the_last_successful_time(fmus):
+    """fmi2LastSuccessfulTime (FMI 2.0 sec. 4.2.3) is part of the state (sec. 2.1.8): after
+    fmi2SetFMUstate it is the saved one, in the same instance and in another one."""
+    with FmuInstance(fmus["full"], "a", {"method": "linear"}, start_time=0.5) as a, \
+            FmuInstance(fmus["full"], "b", {"method": "linear"}) as b:
+        assert a.fmu.getRealStatus(2) == 0.5  # the start time before the first step
+        run(a, INPUTS[:2])
+        saved = a.fmu.getRealStatus(2)
+        assert saved == 0.5 + 1e-3 + 1e-3
+        state = a.fmu.getFMUstate()
+        run(a, INPUTS[2:])
+        assert a.fmu.getRealStatus(2) > saved
+        a.fmu.setFMUstate(state)
+        assert a.fmu.getRealStatus(2) == saved
+        run(b, INPUTS[:1])
+        b_state = b.fmu.deSerializeFMUstate(a.fmu.serializeFMUstate(state))
+        b.fmu.setFMUstate(b_state)
+        assert b.fmu.getRealStatus(2) == saved
+        b.fmu.freeFMUstate(b_state)
+        a.fmu.freeFMUstate(state)
+
+
 def test_exact_warm_start_survives_serialization(fmus):
     """The state holds the exact solver's warm start: the solution and, after a warm-started
     step at the same a/b, the one before it (the secant predictor's)."""
@@ -127,6 +149,15 @@ def _crafted(blob: bytes, tmp_path) -> dict[str, bytes]:
         "header nested too deep": _envelope_raw(b"[" * 100_000, data),
         "Integer beyond fmi2Integer": edit(values={**values, "method_used": 2 ** 32 + 2}),
         "huge Integer": edit(values={**values, "method_used": 2 ** 70}),
+        "no time": _envelope({k: v for k, v in header.items() if k != "time"}, data),
+        "infinite time": edit(time=float("inf")),
+        "time not a number": edit(time="0.1"),
+        # integers beyond the float range, where JSON has numbers
+        "huge integer time": edit(time=10 ** 400),
+        "huge integer Real": edit(values={**values, "E": 10 ** 400}),
+        "huge integer result": edit(result={**header["result"], "Fx": 10 ** 400}),
+        "huge integer warm state": edit(result={**header["result"], "warm_state": {
+            **header["result"]["warm_state"], "a_over_b": 10 ** 400}}),
     }
 
 

@@ -75,7 +75,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self._by_vr: dict[int, VarSpec] = {}
         self._refusal = Fmi2Status.discard
         self._mode = "instantiated"
-        self._t0 = 0.0
+        self._time = 0.0  # fmi2LastSuccessfulTime: the start time, then each step's end
         self._evaluator: contact_core.WheelRailEvaluator | None = None
         self._handover_logged = False
         for spec in self._specs:
@@ -133,7 +133,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
     # -- state machine -------------------------------------------------------------------------
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
         if self._expect_mode("fmi2SetupExperiment", "instantiated"):
-            self._t0 = float(start_time)
+            self._time = float(start_time)
 
     def enter_initialization_mode(self):
         if self._expect_mode("fmi2EnterInitializationMode", "instantiated"):
@@ -157,7 +157,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             self._reject(f"{where}: invalid parameter: {e}")
             return False
         self._evaluator = evaluator
-        if self._step(self._t0, where, Fmi2Status.error):
+        if self._step(self._time, where, Fmi2Status.error):
             return True
         self._evaluator = None
         return False
@@ -170,7 +170,15 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         if self._mode != "step":
             self._expect_mode(f"fmi2DoStep at t={current_time!r}", "step")
             return False
-        return self._step(current_time, "fmi2DoStep", self._refusal)
+        if not self._step(current_time, "fmi2DoStep", self._refusal):
+            return False
+        self._time = current_time + step_size
+        return True
+
+    def last_successful_time(self) -> float:
+        """fmi2GetRealStatus(fmi2LastSuccessfulTime) (FMI 2.0 sec. 4.2.3): the end of the last
+        step done, or the start time before the first; an FMU state holds it."""
+        return self._time
 
     def _step(self, t: float, where: str, refusal: int) -> bool:
         ev = self._evaluator
@@ -211,13 +219,21 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             raise ValueError(f"invalid_input={choice!r} is invalid: allowed "
                              f"{' or '.join(map(repr, INVALID_INPUT_CHOICES))}")
         method = get("method")
-        accepted = getattr(contact_core.METHODS.get(method), "default_options", {})
-        options = {}
+        by_method: dict[str, dict[str, Any]] = {}
         for spec in self._specs:
             if spec.option is not None:
                 owner, opt = spec.option  # owner "*": shared by every method with this option
-                if owner in (method, "*") and opt in accepted:
-                    options[opt] = get(spec.name)
+                for name, cls in contact_core.METHODS.items():
+                    if owner in (name, "*") and opt in cls.default_options:
+                        by_method.setdefault(name, {})[opt] = get(spec.name)
+        options = by_method.pop(method, {})
+        # a parameter of another method is checked too: a wrong value is an error, not ignored
+        for name, others in by_method.items():
+            try:
+                contact_core.make_solver(name, self._build.effects, **others)
+            except ValueError as e:
+                raise ValueError(f"{e} (a parameter of method {name!r}, checked although "
+                                 f"method={method!r} is selected)") from None
         return contact_core.WheelRailConfig(
             method=method, effects=self._build.effects,
             mu=float(get("mu")) if "mu" in self._names else self.mu, E=float(get("E")),
@@ -302,7 +318,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
     def _get_fmu_state(self) -> bytes:
         values = {s.name: PYTHON_TYPES[s.type](getattr(self, s.name)) for s in self._specs}
         ev = self._evaluator
-        return fmu_state.write(fmu_state.FmuState(self.guid, self._mode, values,
+        return fmu_state.write(fmu_state.FmuState(self.guid, self._mode, self._time, values,
                                                   ev.last if ev is not None else None))
 
     def _restore(self, blob: bytes, where: str):
@@ -336,6 +352,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         for name, value in st.values.items():
             setattr(self, name, value)
         self._enter(st.mode)
+        self._time = st.time
         if evaluator is not None:
             evaluator.last = st.result
         self._evaluator = evaluator

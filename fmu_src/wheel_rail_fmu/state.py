@@ -9,10 +9,11 @@ Layout (little-endian)::
     magic     8 bytes    b"WRCSTATE"
     version   uint32     FORMAT_VERSION
     length    uint32     length of the header in bytes
-    header    JSON       {"guid", "mode", "values", "result", "arrays"}
+    header    JSON       {"guid", "mode", "time", "values", "result", "arrays"}
     arrays    raw data   each array of header["arrays"] ([dtype, shape]) in order, C order
     checksum  32 bytes   SHA-256 of everything before it
 
+``time``: the slave's last successful time (fmi2LastSuccessfulTime, a finite number).
 ``values``: every FMU variable by name (Real as JSON numbers, which round-trip exactly; NaN only
 for inputs, which a host may have set). ``result``: the contact result the next step starts from
 (the exact solver's warm start, written by its ``to_record()`` and read back by the method's
@@ -32,7 +33,7 @@ import numpy as np
 from .model_description import PYTHON_TYPES
 from .runtime import contact_core
 
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: the header holds the time
 MAGIC = b"WRCSTATE"
 #: Modes of the slave (FMI 2.0 sec. 4.2.4 state machine, co-simulation).
 MODES = ("instantiated", "initialization", "step", "terminated")
@@ -51,11 +52,12 @@ class StateError(ValueError):
 
 @dataclass(frozen=True)
 class FmuState:
-    """What a state holds: the FMU's GUID, the slave's mode, every variable's value by name, and
-    the last contact result (None before the first loaded step)."""
+    """What a state holds: the FMU's GUID, the slave's mode, its last successful time (s), every
+    variable's value by name, and the last contact result (None before the first loaded step)."""
 
     guid: str
     mode: str
+    time: float
     values: Mapping[str, Any]
     result: Any = None
 
@@ -87,7 +89,8 @@ def write(state: FmuState) -> bytes:
         if dtype not in _DTYPES:
             raise TypeError(f"warm state array of dtype {dtype} is not serializable")
         specs.append([dtype, list(a.shape)])
-    header = json.dumps({"guid": state.guid, "mode": state.mode, "values": dict(state.values),
+    header = json.dumps({"guid": state.guid, "mode": state.mode, "time": float(state.time),
+                         "values": dict(state.values),
                          "result": result, "arrays": specs}, sort_keys=True).encode()
     body = b"".join([_HEAD.pack(MAGIC, FORMAT_VERSION, len(header)), header]
                     + [np.ascontiguousarray(a).tobytes() for a in arrays])
@@ -116,20 +119,32 @@ def read(blob: bytes, guid: str, variables: Iterable[tuple[str, str, str]]) -> F
     except (UnicodeDecodeError, ValueError, RecursionError) as e:  # (nested too deep)
         raise StateError(f"the state's header is not valid JSON: {e}") from None
     _expect(isinstance(header, dict)
-            and set(header) == {"guid", "mode", "values", "result", "arrays"},
-            "the state's header does not have the fields guid, mode, values, result, arrays")
+            and set(header) == {"guid", "mode", "time", "values", "result", "arrays"},
+            "the state's header does not have the fields guid, mode, time, values, result, arrays")
     _expect(header["guid"] == guid, f"the state belongs to the FMU with GUID {header['guid']!r}, "
             f"not to this one ({guid})")
     _expect(header["mode"] in MODES, f"mode {header['mode']!r} is unknown: allowed {MODES}")
+    time = _finite(header["time"], "time")
     values = _values(header["values"], list(variables))
     arrays = _arrays(header["arrays"], body[_HEAD.size + n:])
     result = _result(header["result"], arrays)
-    return FmuState(guid, header["mode"], values, result)
+    return FmuState(guid, header["mode"], time, values, result)
 
 
 def _expect(condition: bool, message: str) -> None:
     if not condition:
         raise StateError(message)
+
+
+def _finite(value: Any, name: str) -> float:
+    """``value`` (a JSON number) as a finite float, else :class:`StateError`."""
+    _expect(type(value) in (int, float), f"{name}={value!r} in the state is not a number")
+    try:
+        x = float(value)
+    except OverflowError:  # an integer beyond the float range
+        x = math.inf
+    _expect(math.isfinite(x), f"{name}={value!r} in the state is not a finite number")
+    return x
 
 
 def _values(values: Any, variables: list[tuple[str, str, str]]) -> dict[str, Any]:
@@ -140,7 +155,7 @@ def _values(values: Any, variables: list[tuple[str, str, str]]) -> dict[str, Any
     for name, typ, causality in variables:
         v = values[name]
         if typ == "Real" and type(v) is int:  # JSON may write a whole float without ".0"
-            v = values[name] = float(v)
+            v = values[name] = _finite(v, name)
         _expect(type(v) is PYTHON_TYPES[typ], f"{name}={v!r} in the state is not of type {typ}")
         if typ == "Real" and causality != "input":
             _expect(math.isfinite(v), f"{name}={v!r} in the state is not finite")
@@ -184,9 +199,7 @@ def _result(r: Any, arrays: list[np.ndarray]) -> Any:
             f"{list(methods)}")
     _expect(type(r["converged"]) is bool and type(r["iterations"]) is int
             and r["iterations"] >= 0, "the state's result has an invalid converged/iterations")
-    for k in _RESULT_FLOATS:
-        _expect(type(r[k]) in (int, float) and math.isfinite(r[k]),
-                f"result {k}={r[k]!r} in the state is not a finite number")
+    floats = {k: _finite(r[k], f"result {k}") for k in _RESULT_FLOATS}
     warm, used = r["warm_state"], set()
     if warm is not None:
         _expect(isinstance(warm, dict), "the state's warm state is not a mapping")
@@ -199,9 +212,10 @@ def _result(r: Any, arrays: list[np.ndarray]) -> Any:
                 used.add(i)
                 warm[key] = arrays[i]
             else:
-                _expect(type(value) in (bool, int, float, str) and
-                        (type(value) is not float or math.isfinite(value)),
-                        f"warm state {key!r}={value!r} is not a finite number or a string")
+                _expect(type(value) in (bool, int, float, str),
+                        f"warm state {key!r}={value!r} is not a number or a string")
+                if type(value) in (int, float):
+                    _finite(value, f"warm state {key!r}")
     _expect(len(used) == len(arrays), "the state has arrays its result does not use")
     try:
         warm = methods[r["method"]].warm_state_from_record(warm)
@@ -209,6 +223,6 @@ def _result(r: Any, arrays: list[np.ndarray]) -> Any:
         raise StateError(f"the state's warm start does not fit method {r['method']!r}: {e}") \
             from None
     return contact_core.ContactResult(
-        float(r["Fx"]), float(r["Fy"]), float(r["Mz"]), r["method"],
-        slip_fraction=float(r["slip_fraction"]), converged=r["converged"],
-        iterations=r["iterations"], residual=float(r["residual"]), warm_state=warm)
+        floats["Fx"], floats["Fy"], floats["Mz"], r["method"],
+        slip_fraction=floats["slip_fraction"], converged=r["converged"],
+        iterations=r["iterations"], residual=floats["residual"], warm_state=warm)

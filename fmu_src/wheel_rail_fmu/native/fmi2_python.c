@@ -30,7 +30,9 @@
  *  - without PYTHONHOME in the environment, an interpreter started here takes the Python the FMU
  *    was built with (WRC_PYTHON_EXECUTABLE, e.g. a virtual environment) as its executable, so it
  *    finds that environment's packages;
- *  - the optional slave method _check_fmu_state(state) validates a deserialized state.
+ *  - the optional slave method _check_fmu_state(state) validates a deserialized state;
+ *  - fmi2GetRealStatus(fmi2LastSuccessfulTime) returns the slave's last_successful_time(), so
+ *    that the time is part of the slave's FMU state and fmi2SetFMUstate restores it.
  *
  * The global interpreter lock is taken around every call (PyGILState_Ensure), so hosts may call
  * from any thread. Thread safety across instances follows from the lock.
@@ -112,7 +114,6 @@ typedef struct {
     PyObject *kwargs;  /* its constructor arguments (again at fmi2Reset) */
     PyObject *slave;   /* the instance */
     PyObject *strings; /* list of bytes: what the last fmi2GetString returned points into */
-    fmi2Real last_time;
 } Instance;
 
 /* ------------------------------------------------------------------------------------------ */
@@ -440,7 +441,6 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
     Py_XDECREF(stop);
     Py_XDECREF(tol);
     fmi2Status s = finish(in, r, "fmi2SetupExperiment");
-    if (s == fmi2OK) in->last_time = startTime;
     PyGILState_Release(g);
     return s;
 }
@@ -469,7 +469,6 @@ fmi2Status fmi2Reset(fmi2Component c) {
     if (in == NULL || in->cls == NULL) return fmi2Error;
     PyGILState_STATE g = PyGILState_Ensure();
     fmi2Status s = make_slave(in, "fmi2Reset");
-    if (s == fmi2OK) in->last_time = 0.0;
     PyGILState_Release(g);
     return s;
 }
@@ -735,7 +734,6 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
         drain_log(in);
         s = done > 0 ? fmi2OK : fmi2Discard; /* pythonfmu: do_step returns False to refuse */
         if (done < 0) s = report_exception(in, "fmi2DoStep");
-        if (s == fmi2OK) in->last_time = currentCommunicationPoint + communicationStepSize;
     }
     PyGILState_Release(g);
     return s;
@@ -776,12 +774,19 @@ fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *va
     return c ? fmi2Discard : fmi2Error;
 }
 
+/* fmi2LastSuccessfulTime is the slave's (method last_successful_time): an FMU state holds it. */
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
     Instance *in = c;
-    if (in == NULL || value == NULL) return fmi2Error;
+    if (bad_call(in, "fmi2GetRealStatus", value, value, 1)) return fmi2Error;
     if (s != fmi2LastSuccessfulTime) return fmi2Discard;
-    *value = in->last_time;
-    return fmi2OK;
+    PyGILState_STATE g = PyGILState_Ensure();
+    PyObject *r = CALL(in, "last_successful_time", NULL);
+    double t = r ? PyFloat_AsDouble(r) : -1.0;
+    if (r != NULL && t == -1.0 && PyErr_Occurred()) Py_CLEAR(r);
+    fmi2Status status = finish(in, r, "fmi2GetRealStatus");
+    if (status == fmi2OK) *value = t;
+    PyGILState_Release(g);
+    return status;
 }
 
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
