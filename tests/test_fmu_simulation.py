@@ -10,6 +10,7 @@ import os
 import subprocess
 import sys
 import time
+import warnings
 import zipfile
 
 import numpy as np
@@ -50,12 +51,22 @@ def outputs(inst: FmuInstance) -> list:
 
 
 def status_of(call, *args, **kwargs) -> int:
-    """The FMI status of a call through fmpy (which raises above warning)."""
+    """The FMI status of a call through fmpy (which raises above warning and returns the status
+    of most calls, not of doStep: see :func:`do_step`)."""
     try:
-        call(*args, **kwargs)
+        r = call(*args, **kwargs)
     except FMICallException as e:
         return e.status
-    return OK
+    return r if isinstance(r, int) else OK
+
+
+def do_step(inst: FmuInstance, h: float = 1e-3, **inputs: float) -> int:
+    """Set ``inputs``, call fmi2DoStep and return its status (advancing the time if it is done)."""
+    inst.set(**inputs)
+    status = status_of(inst.fmu.fmi2DoStep, inst.fmu.component, inst.t, h, 1)
+    if status <= WARNING:
+        inst.t += h
+    return status
 
 
 def assert_rel(actual, expected, rtol=1e-12):
@@ -265,6 +276,61 @@ def test_misuse_is_an_error(fmus):
         inst.step(**INPUTS[0])  # none of it harmed the instance
         assert_rel(outputs(inst), reference(cc.load_scene("full").default_method,
                                             **INPUTS[0])[1])
+
+
+@pytest.mark.parametrize("h", [0.0, -1e-3, math.nan, math.inf])
+def test_step_size_must_be_positive(fmus, h):
+    # FMI 2.0 sec. 4.2.2: a communication step has h > 0; the time stays finite
+    with FmuInstance(fmus["full"], start={"method": "linear"}) as inst:
+        inst.step(**INPUTS[0])
+        before = (inst.fmu.getRealStatus(2), outputs(inst))
+        assert do_step(inst, h, **INPUTS[1]) == ERROR
+        assert "communicationStepSize" in inst.errors()[-1]
+        assert (inst.fmu.getRealStatus(2), outputs(inst)) == before
+        assert do_step(inst, 1e-3, **INPUTS[1]) == OK  # the instance goes on
+
+
+# an a/b the core warns about (C33 held beyond Kalker's table; the table outside its a/b range)
+WARNED = [("linear", 0.002, "CoefficientExtrapolationWarning: C33 for a/b > 10 is held"),
+          ("table", 0.01, "TableDomainWarning: table: a/b=11.")]
+
+
+@pytest.mark.parametrize("k, host_filter", list(enumerate(["default", "error", "ignore"])))
+@pytest.mark.parametrize("method, rail, message", WARNED)
+def test_core_warnings_go_to_the_logger_whatever_the_host_filters(fmus, k, host_filter, method,
+                                                                  rail, message):
+    """The core's Python warnings reach the FMI logger once, with fmi2Warning (FMI 2.0 sec.
+    2.1.3), and never the host's warning machinery: under filters that raise them (python -W
+    error) the steps are done as under any other."""
+    rail *= 1.0 + 0.01 * k  # an a/b of its own: the core warns once per a/b and process
+    with warnings.catch_warnings(record=True) as escaped:
+        warnings.simplefilter(host_filter)
+        with FmuInstance(fmus["full"], initialize=False) as inst:
+            inst.fmu.setupExperiment(startTime=0.0)
+            inst.fmu.enterInitializationMode()
+            inst.set(method=method, R_rail_profile=rail)
+            got = [status_of(inst.fmu.exitInitializationMode)]  # N = 0 (lifted) so far
+            got += [do_step(inst, **u) for u in INPUTS]
+            forces = outputs(inst)
+            logged = [m for s, m in inst.messages if s == WARNING and message in m]
+    assert escaped == []
+    assert len(logged) == 1, list(inst.messages)
+    assert got == [OK, WARNING, OK, OK, OK]  # the first loaded step logged it
+    r = None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for u in INPUTS:  # the FMU's sequence of steps, each warm-started from the one before
+            p = cc.hertz_from_radii(u["N"], 0.46, math.inf, rail, E, NU)
+            r = cc.solve(method, **u, a=p.a, b=p.b, G=cc.shear_modulus(E, NU), nu=NU,
+                         warm_start=r)
+    assert_rel(forces[:3], [r.Fx, r.Fy, r.Mz])
+
+
+def test_a_step_that_did_not_converge_returns_a_warning(fmus):
+    with FmuInstance(fmus["full"], start={"method": "exact", "maxit": 1, "mx": 12, "my": 12,
+                                          "extrapolate": False}) as inst:
+        assert do_step(inst, **INPUTS[0]) == WARNING
+        assert "stopped after 1 iterations" in inst.messages[-1][1]
 
 
 # ---------------------------------------------------------------------------------------------

@@ -251,8 +251,9 @@ def finalize_model_description(root: Element, specs: list[VarSpec], guid: str,
         typed = sv.find(spec.type)
         if spec.unit and spec.type == "Real":
             typed.set("unit", spec.unit)
-        if spec.type == "Real" and "start" in typed.attrib:
-            typed.set("start", _format_real(name, float(typed.get("start"))))
+        if spec.type == "Real" and "start" in typed.attrib:  # the value itself, not its text
+            start = spec.start if spec.start is not None else float(typed.get("start"))
+            typed.set("start", _format_real(name, float(start)))
     if set(index) != set(by_name):
         raise RuntimeError(f"model variables {sorted(index)} differ from the specification "
                            f"{sorted(by_name)}")

@@ -16,7 +16,11 @@ its status:
 * invalid parameter: ``fmi2ExitInitializationMode`` returns ``fmi2Error`` with the parameter and
   its allowed range; the parameters may be corrected and the call repeated;
 * a fixed parameter or an output set when it may not be, an unknown value reference, a call in
-  the wrong mode, a foreign or corrupted FMU state: ``fmi2Error``, nothing changed;
+  the wrong mode, a step size that is not > 0, a foreign or corrupted FMU state: ``fmi2Error``,
+  nothing changed;
+* a call that logged a warning (a step that did not converge, the table's handover, the core's
+  Python warnings, which go to the logger and never to the host's warning filters):
+  ``fmi2Warning`` (the wrapper returns it for any call that logged one);
 * ``fmi2Fatal`` never (it means the state of all instances is corrupted).
 
 Under pythonfmu's generic binary (the fallback where no C compiler was available), a Python
@@ -27,6 +31,8 @@ returns ``fmi2Discard``.
 """
 from __future__ import annotations
 
+import math
+import warnings
 from typing import Any, Mapping
 
 from . import state as fmu_state
@@ -78,6 +84,13 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self._time = 0.0  # fmi2LastSuccessfulTime: the start time, then each step's end
         self._evaluator: contact_core.WheelRailEvaluator | None = None
         self._handover_logged = False
+        # The core's Python warnings (e.g. C33 held beyond a/b = 10, the table's fallback, an
+        # exact solve that stopped early) go to the FMI logger, not to the host's stderr or its
+        # warning filters: caught until the first loaded step (the a/b of an instance is fixed),
+        # and at every step once one was seen or the host's filters raised one (catching costs
+        # microseconds per step: not otherwise).
+        self._catching = False
+        self._forwarded: set[type] = set()
         for spec in self._specs:
             if hasattr(type(self), spec.name) or spec.name.startswith("_"):
                 raise RuntimeError(f"variable name {spec.name!r} clashes with the slave class")
@@ -170,9 +183,14 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         if self._mode != "step":
             self._expect_mode(f"fmi2DoStep at t={current_time!r}", "step")
             return False
+        end = current_time + step_size
+        if not (step_size > 0.0 and math.isfinite(end)):  # FMI 2.0 sec. 4.2.2: h > 0
+            self._reject(f"fmi2DoStep at t={current_time!r} with communicationStepSize="
+                         f"{step_size!r}: allowed a step size > 0 and a finite time")
+            return False
         if not self._step(current_time, "fmi2DoStep", self._refusal):
             return False
-        self._time = current_time + step_size
+        self._time = end
         return True
 
     def last_successful_time(self) -> float:
@@ -180,10 +198,29 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         step done, or the start time before the first; an FMU state holds it."""
         return self._time
 
+    def _evaluate(self, t: float, where: str) -> contact_core.ContactResult:
+        ev = self._evaluator
+        if not (self._catching or ev.last is None):
+            try:
+                return ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
+            except Warning:  # the host's filters raise warnings: the step again, caught
+                self._catching = True  # (a warning is raised before the result is kept)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            r = ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
+        if caught:
+            self._catching = True
+        for w in caught:
+            if w.category not in self._forwarded:
+                self._forwarded.add(w.category)
+                self.log(f"{where} at t={t!r}: {w.category.__name__}: {w.message} (logged once "
+                         "per kind)", Fmi2Status.warning)
+        return r
+
     def _step(self, t: float, where: str, refusal: int) -> bool:
         ev = self._evaluator
         try:
-            r = ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
+            r = self._evaluate(t, where)
         except ValueError as e:  # names the input and its allowed range
             self._reject(f"{where} at t={t!r} refused: {e}; outputs keep their last values",
                          refusal)
@@ -206,6 +243,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
                      f"{r.method!r} (method_used = {ev.method_code}); logged once",
                      Fmi2Status.warning)
         if not r.converged:
+            self._catching = True  # the core warned too: its next warnings go to the logger
             self.log(f"{where} at t={t!r}: method {r.method!r} stopped after {r.iterations} "
                      f"iterations at residual {r.residual!r}", Fmi2Status.warning)
         return True

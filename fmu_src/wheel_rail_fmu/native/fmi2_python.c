@@ -10,6 +10,7 @@
  * _get_fmu_state, _set_fmu_state, _fmu_state_to_bytes, _fmu_state_from_bytes; log_queue).
  *
  * What differs from pythonfmu 0.7 (FMI 2.0 sec. 2.1.3 on statuses):
+ *  - a call during which the slave logged a warning returns fmi2Warning (FMI 2.0 sec. 2.1.3);
  *  - a Python exception is fmi2Error (the instance failed), never fmi2Fatal (which the standard
  *    keeps for corrupted state of all instances); an exception may carry an int attribute
  *    ``fmi_status`` (1 warning, 2 discard, 3 error) to choose the status, and its text is logged
@@ -138,14 +139,17 @@ static void log_text(const Instance *in, fmi2Status s, const char *category, con
                   category ? category : category_of(s), "%s", text ? text : "");
 }
 
-/* Deliver and release the slave's queued messages (pythonfmu's LogMsg: status, category, msg). */
-static void drain_log(Instance *in) {
-    if (in->slave == NULL) return;
+/* Deliver and release the slave's queued messages (pythonfmu's LogMsg: status, category, msg).
+   Returns fmi2Warning if one of them was a warning or worse (FMI 2.0 sec. 2.1.3: fmi2Warning
+   means the logger was called with "not quite right"), else fmi2OK. */
+static fmi2Status drain_log(Instance *in) {
+    fmi2Status worst = fmi2OK;
+    if (in->slave == NULL) return worst;
     PyObject *queue = PyObject_GetAttrString(in->slave, "log_queue");
     if (queue == NULL || !PyList_Check(queue)) {
         PyErr_Clear();
         Py_XDECREF(queue);
-        return;
+        return worst;
     }
     Py_ssize_t n = PyList_GET_SIZE(queue);
     for (Py_ssize_t i = 0; i < n; i++) {
@@ -160,6 +164,7 @@ static void drain_log(Instance *in) {
         const char *t = text ? PyUnicode_AsUTF8(text) : NULL;
         PyErr_Clear();
         if (s < fmi2OK || s > fmi2Fatal) s = fmi2Error;
+        if (s != fmi2OK) worst = fmi2Warning;
         log_text(in, (fmi2Status)s, cat, t ? t : "(message could not be converted)");
         Py_XDECREF(status);
         Py_XDECREF(category);
@@ -168,6 +173,7 @@ static void drain_log(Instance *in) {
     }
     if (PyList_SetSlice(queue, 0, n, NULL) < 0) PyErr_Clear();
     Py_DECREF(queue);
+    return worst;
 }
 
 /* ------------------------------------------------------------------------------------------ */
@@ -266,8 +272,7 @@ static fmi2Status report_exception(Instance *in, const char *where) {
 static fmi2Status finish(Instance *in, PyObject *result, const char *where) {
     if (result == NULL) return report_exception(in, where);
     Py_DECREF(result);
-    drain_log(in);
-    return fmi2OK;
+    return drain_log(in);
 }
 
 /* Call a slave method with a Py_BuildValue argument tuple format. */
@@ -357,8 +362,7 @@ static fmi2Status make_slave(Instance *in, const char *where) {
     Py_XDECREF(args);
     if (slave == NULL) return report_exception(in, where);
     Py_XSETREF(in->slave, slave);
-    drain_log(in);
-    return fmi2OK;
+    return drain_log(in);
 }
 
 const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
@@ -409,7 +413,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     }
     PyGILState_Release(g);
     free(resources);
-    if (status != fmi2OK) {
+    if (status > fmi2Warning) {
         free_instance(in);
         return NULL;
     }
@@ -620,8 +624,7 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state) {
     } else {
         Py_XDECREF((PyObject *)*state); /* FMI 2.0 sec. 2.1.8: a given state is overwritten */
         *state = r;
-        drain_log(in);
-        s = fmi2OK;
+        s = drain_log(in);
     }
     PyGILState_Release(g);
     return s;
@@ -706,8 +709,7 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
         s = report_exception(in, "fmi2DeSerializeFMUstate");
     } else {
         *state = st;
-        drain_log(in);
-        s = fmi2OK;
+        s = drain_log(in);
     }
     PyGILState_Release(g);
     return s;
@@ -731,8 +733,8 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
     } else {
         int done = PyObject_IsTrue(r);
         Py_DECREF(r);
-        drain_log(in);
-        s = done > 0 ? fmi2OK : fmi2Discard; /* pythonfmu: do_step returns False to refuse */
+        fmi2Status logged = drain_log(in);
+        s = done > 0 ? logged : fmi2Discard; /* pythonfmu: do_step returns False to refuse */
         if (done < 0) s = report_exception(in, "fmi2DoStep");
     }
     PyGILState_Release(g);
@@ -784,7 +786,7 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *
     double t = r ? PyFloat_AsDouble(r) : -1.0;
     if (r != NULL && t == -1.0 && PyErr_Occurred()) Py_CLEAR(r);
     fmi2Status status = finish(in, r, "fmi2GetRealStatus");
-    if (status == fmi2OK) *value = t;
+    if (status <= fmi2Warning) *value = t;
     PyGILState_Release(g);
     return status;
 }
