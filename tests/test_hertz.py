@@ -71,6 +71,9 @@ def test_semi_axes_scale_with_cube_root_of_load():
     assert (p8.a / p1.a, p8.b / p1.b) == pytest.approx((2.0, 2.0), rel=1e-14)
     assert p8.p0 / p1.p0 == pytest.approx(2.0, rel=1e-14)
     assert g.patch(0.0) == cc.HertzPatch(0.0, 0.0, 0.0, 0.0)
+    # to the largest load (3N alone would overflow): p0 still follows N^(1/3)
+    big, ref = g.patch(1.6e308), g.patch(1.6e308 / 8.0 ** 30)
+    assert math.isfinite(big.p0) and big.p0 / ref.p0 == pytest.approx(2.0 ** 30, rel=1e-13)
 
 
 def test_wheel_rail_helper():
