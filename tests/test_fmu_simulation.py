@@ -283,11 +283,44 @@ def test_step_size_must_be_positive(fmus, h):
     # FMI 2.0 sec. 4.2.2: a communication step has h > 0; the time stays finite
     with FmuInstance(fmus["full"], start={"method": "linear"}) as inst:
         inst.step(**INPUTS[0])
-        before = (inst.fmu.getRealStatus(2), outputs(inst))
         assert do_step(inst, h, **INPUTS[1]) == ERROR
         assert "communicationStepSize" in inst.errors()[-1]
-        assert (inst.fmu.getRealStatus(2), outputs(inst)) == before
+        assert inst.fmu.getRealStatus(2) == 1e-3  # the time of the last step done
         assert do_step(inst, 1e-3, **INPUTS[1]) == OK  # the instance goes on
+        assert inst.fmu.getRealStatus(2) == 2e-3
+
+
+@pytest.mark.parametrize("method", ["johnson_vermeulen", "exact"])
+def test_outputs_follow_the_inputs_at_a_communication_point(fmus, method):
+    """The ModelStructure declares the outputs directly dependent on the inputs (FMI 2.0 sec.
+    2.2.8): read after a set, they are the law at the values set (a master that solves the
+    loop at a communication point sees no delay), and the step that follows has nothing left to
+    compute: "set, get, step" gives what "set, step, get" gives, to the last bit, warm start
+    included."""
+    start = {"method": method, **options_for(method)}
+    with FmuInstance(fmus["full"], "a", start) as a, FmuInstance(fmus["full"], "b", start) as b:
+        warm = None
+        for u in INPUTS:
+            a.set(**u)
+            early = outputs(a)                 # before the step
+            assert do_step(a) == OK
+            assert outputs(a) == early          # the step computed nothing new
+            b.step(**u)                         # the usual order
+            assert outputs(b) == early
+            warm, ref = reference(method, warm=warm, **u)
+            assert_rel(early, ref)
+
+
+def test_an_input_the_step_would_refuse_read_back_is_a_warning(fmus):
+    # fmi2GetReal may not return fmi2Discard in co-simulation (FMI 2.0 sec. 2.1.3): a warning
+    # naming the variable, the last outputs; the step then refuses as always
+    with FmuInstance(fmus["full"], start={"method": "johnson_vermeulen"}) as inst:
+        inst.step(**INPUTS[0])
+        good = outputs(inst)
+        inst.set(**{**INPUTS[1], "xi": math.nan})
+        assert outputs(inst) == good  # fmpy raises above fmi2Warning
+        assert inst.messages[-1][0] == WARNING and "xi=nan" in inst.messages[-1][1]
+        assert do_step(inst) == DISCARD
 
 
 # an a/b the core warns about (C33 held beyond Kalker's table; the table outside its a/b range)

@@ -83,6 +83,10 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self._mode = "instantiated"
         self._time = 0.0  # fmi2LastSuccessfulTime: the start time, then each step's end
         self._evaluator: contact_core.WheelRailEvaluator | None = None
+        # The outputs are the law at the current inputs (the ModelStructure declares them
+        # directly dependent): a set clears it, an evaluation sets it, an output read without
+        # it evaluates first, a step with it has nothing to compute.
+        self._fresh = False
         self._handover_logged = False
         # The core's Python warnings (e.g. C33 held beyond a/b = 10, the table's fallback, an
         # exact solve that stopped early) go to the FMI logger, not to the host's stderr or its
@@ -124,8 +128,9 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
 
     # -- statuses ------------------------------------------------------------------------------
     def _reject(self, message: str, status: int = Fmi2Status.error) -> None:
-        """Refuse the current call with ``status`` (see the module docstring)."""
-        if self._raises:
+        """Refuse the current call with ``status`` (see the module docstring); a warning is
+        logged and the call goes on."""
+        if self._raises and status != Fmi2Status.warning:
             raise FmiStatusError(message, status)
         self.log(message, Fmi2Status(status))
 
@@ -188,7 +193,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             self._reject(f"fmi2DoStep at t={current_time!r} with communicationStepSize="
                          f"{step_size!r}: allowed a step size > 0 and a finite time")
             return False
-        if not self._step(current_time, "fmi2DoStep", self._refusal):
+        if not (self._fresh or self._step(current_time, "fmi2DoStep", self._refusal)):
             return False
         self._time = end
         return True
@@ -236,6 +241,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self.p0 = ev.p0
         self.slip_fraction = r.slip_fraction
         self.method_used = ev.method_code
+        self._fresh = r.converged  # (a step that did not converge goes on iterating)
         if r.method != ev.config.method and not self._handover_logged:
             self._handover_logged = True
             self.log(f"{where} at t={t!r}: a/b = {ev.a / ev.b:.6g}, nu = {ev.nu:g} are outside "
@@ -289,15 +295,25 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
 
     def _get(self, vrs, kind: str) -> list:
         names = self._readable[kind]
-        if self._mode == "initialization" and self._evaluator is None and any(
-                vr in self._outputs for vr in vrs):
-            self._initial_outputs(f"fmi2Get{kind} in initialization mode")
+        if not self._fresh and any(vr in self._outputs for vr in vrs):
+            self._update_outputs(f"fmi2Get{kind}")
         try:
             return [getattr(self, names[vr]) for vr in vrs]
         except KeyError:
             for vr in vrs:
                 self._lookup(vr, kind)
             return [_ZERO[kind]] * len(vrs)
+
+    def _update_outputs(self, where: str) -> None:
+        """The outputs for the values set since the last evaluation (FMI 2.0 sec. 2.2.8: they
+        depend directly on the inputs), read in Initialization Mode (:meth:`_initial_outputs`)
+        or at a communication point, where inputs a step would refuse give a warning and
+        leave the last outputs."""
+        if self._mode == "initialization":
+            if self._evaluator is None:
+                self._initial_outputs(f"{where} in initialization mode")
+        elif self._mode == "step":
+            self._step(self._time, where, Fmi2Status.warning)
 
     def _set(self, vrs, values, kind: str) -> None:
         settable = self._settable[kind]
@@ -308,6 +324,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             return
         for name, value in zip(names, values):
             setattr(self, name, value)
+        self._fresh = False
         if self._mode == "initialization":
             self._evaluator = None  # the initial outputs are computed again when read
 
@@ -356,7 +373,8 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
     def _get_fmu_state(self) -> bytes:
         values = {s.name: PYTHON_TYPES[s.type](getattr(self, s.name)) for s in self._specs}
         ev = self._evaluator
-        return fmu_state.write(fmu_state.FmuState(self.guid, self._mode, self._time, values,
+        return fmu_state.write(fmu_state.FmuState(self.guid, self._mode, self._time,
+                                                  self._fresh, values,
                                                   ev.last if ev is not None else None))
 
     def _restore(self, blob: bytes, where: str):
@@ -391,6 +409,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             setattr(self, name, value)
         self._enter(st.mode)
         self._time = st.time
+        self._fresh = st.fresh
         if evaluator is not None:
             evaluator.last = st.result
         self._evaluator = evaluator

@@ -9,11 +9,12 @@ Layout (little-endian)::
     magic     8 bytes    b"WRCSTATE"
     version   uint32     FORMAT_VERSION
     length    uint32     length of the header in bytes
-    header    JSON       {"guid", "mode", "time", "values", "result", "arrays"}
+    header    JSON       {"guid", "mode", "time", "fresh", "values", "result", "arrays"}
     arrays    raw data   each array of header["arrays"] ([dtype, shape]) in order, C order
     checksum  32 bytes   SHA-256 of everything before it
 
 ``time``: the slave's last successful time (fmi2LastSuccessfulTime, a finite number).
+``fresh``: whether the outputs are those of the current inputs (a boolean).
 ``values``: every FMU variable by name (Real as JSON numbers, which round-trip exactly; NaN only
 for inputs, which a host may have set). ``result``: the contact result the next step starts from
 (the exact solver's warm start, written by its ``to_record()`` and read back by the method's
@@ -33,7 +34,7 @@ import numpy as np
 from .model_description import PYTHON_TYPES
 from .runtime import contact_core
 
-FORMAT_VERSION = 2  # 2: the header holds the time
+FORMAT_VERSION = 2  # 2: the header holds the time and the outputs' freshness
 MAGIC = b"WRCSTATE"
 #: Modes of the slave (FMI 2.0 sec. 4.2.4 state machine, co-simulation).
 MODES = ("instantiated", "initialization", "step", "terminated")
@@ -52,12 +53,14 @@ class StateError(ValueError):
 
 @dataclass(frozen=True)
 class FmuState:
-    """What a state holds: the FMU's GUID, the slave's mode, its last successful time (s), every
-    variable's value by name, and the last contact result (None before the first loaded step)."""
+    """What a state holds: the FMU's GUID, the slave's mode, its last successful time (s),
+    whether its outputs are those of its inputs, every variable's value by name, and the last
+    contact result (None before the first loaded step)."""
 
     guid: str
     mode: str
     time: float
+    fresh: bool
     values: Mapping[str, Any]
     result: Any = None
 
@@ -90,7 +93,7 @@ def write(state: FmuState) -> bytes:
             raise TypeError(f"warm state array of dtype {dtype} is not serializable")
         specs.append([dtype, list(a.shape)])
     header = json.dumps({"guid": state.guid, "mode": state.mode, "time": float(state.time),
-                         "values": dict(state.values),
+                         "fresh": bool(state.fresh), "values": dict(state.values),
                          "result": result, "arrays": specs}, sort_keys=True).encode()
     body = b"".join([_HEAD.pack(MAGIC, FORMAT_VERSION, len(header)), header]
                     + [np.ascontiguousarray(a).tobytes() for a in arrays])
@@ -119,16 +122,19 @@ def read(blob: bytes, guid: str, variables: Iterable[tuple[str, str, str]]) -> F
     except (UnicodeDecodeError, ValueError, RecursionError) as e:  # (nested too deep)
         raise StateError(f"the state's header is not valid JSON: {e}") from None
     _expect(isinstance(header, dict)
-            and set(header) == {"guid", "mode", "time", "values", "result", "arrays"},
-            "the state's header does not have the fields guid, mode, time, values, result, arrays")
+            and set(header) == {"guid", "mode", "time", "fresh", "values", "result", "arrays"},
+            "the state's header does not have the fields guid, mode, time, fresh, values, result, "
+            "arrays")
     _expect(header["guid"] == guid, f"the state belongs to the FMU with GUID {header['guid']!r}, "
             f"not to this one ({guid})")
     _expect(header["mode"] in MODES, f"mode {header['mode']!r} is unknown: allowed {MODES}")
     time = _finite(header["time"], "time")
+    _expect(type(header["fresh"]) is bool, f"fresh={header['fresh']!r} in the state is not a "
+            "boolean")
     values = _values(header["values"], list(variables))
     arrays = _arrays(header["arrays"], body[_HEAD.size + n:])
     result = _result(header["result"], arrays)
-    return FmuState(guid, header["mode"], time, values, result)
+    return FmuState(guid, header["mode"], time, header["fresh"], values, result)
 
 
 def _expect(condition: bool, message: str) -> None:
