@@ -44,7 +44,8 @@ class SettingStats:
 def errors(cases: Sequence[Case], refs: Sequence[Reference],
            results: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(force error, moment error) per case of one setting's ``results`` (cases × [Fx, Fy, Mz,
-    ...]); NaN where the reference is not converged."""
+    ...]): the error of |F| (not of the vector F) over μN and of Mz over μN·c; NaN where the
+    reference is not converged."""
     eF = np.full(len(cases), np.nan)
     eM = np.full(len(cases), np.nan)
     for j, (c, r) in enumerate(zip(cases, refs)):
@@ -228,7 +229,8 @@ def markdown(*, stats: Sequence[SettingStats], cases: Sequence[Case], refs: Sequ
         "",
         f"![Pareto plot: error vs time per call]({png_name})",
         "",
-        "Errors in % (|F|: of μN; Mz: of μN·c, c = √(ab)), over all cases with a converged "
+        "Errors in % (|F|: the magnitude's, ||F| − |F_ref||, of μN; Mz: of μN·c, c = √(ab)), "
+        "over all cases with a converged "
         "reference (Mz: without the pure longitudinal cases, where Mz = 0 by symmetry). Times in µs: median over the cases (10th–90th percentile), each case the "
         f"median of {meta['repeats']} repeats; in-process = one `contact_core.solve` call, FMU = "
         "`setReal + doStep + getReal` through fmpy's `FMU2Slave`"
