@@ -7,6 +7,7 @@ to the private :meth:`ContactMethod._step_impl`. ``contact_core.solve`` is the o
 from __future__ import annotations
 
 import math
+import numbers
 import operator
 from abc import ABC, abstractmethod
 from dataclasses import replace
@@ -108,6 +109,28 @@ def check_inputs(xi: float, eta: float, phi: float, N: float, mu: float,
         raise out_of_range("nu", nu)
 
 
+_INPUT_NAMES = ("xi", "eta", "phi", "N", "mu", "a", "b", "G", "nu")
+
+
+def _not_a_number(values: tuple) -> ValueError | None:
+    """For a call that failed: a ``ValueError`` naming the first input that is not a real scalar
+    (None, a string, an array, a complex number, an integer beyond the float range), else None
+    (the failure was about the values, and its own error names them)."""
+    for name, v in zip(_INPUT_NAMES, values):
+        ok = isinstance(v, numbers.Real) and not isinstance(v, bool) and np.ndim(v) == 0
+        if ok:
+            try:
+                float(v)
+            except OverflowError:
+                ok = False
+        if not ok:
+            text = repr(v)
+            text = text if len(text) <= 60 else text[:57] + "..."
+            return ValueError(f"{name}={text} is not a number: allowed a real scalar "
+                              f"({type(v).__name__} given)")
+    return None
+
+
 def _moderate(xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
               G: float, nu: float, saturates: bool) -> bool:
     """Inputs a method computes directly in SI units: semi-axes 1e-8..1e3 m, G 1e-3..1e15 Pa,
@@ -186,27 +209,32 @@ class ContactMethod(ABC):
     def step(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
              G: float, nu: float, warm_start: ContactResult | None = None) -> ContactResult:
         """Solve one contact state (SI units; see ``contact_core.solve`` for the arguments)."""
-        if not (self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu,
-                                               self._saturates)):
-            check_inputs(xi, eta, phi, N, mu, a, b, G, nu)
-            eff = self.effects
-            if (xi and not eff.longitudinal) or (eta and not eff.lateral) or (phi and not eff.spin):
-                off = [n for n, v, on in (("xi", xi, eff.longitudinal),
-                                          ("eta", eta, eff.lateral), ("phi", phi, eff.spin))
-                       if v and not on]
-                raise ValueError(f"{off[0]} is non-zero but its effect is not selected "
-                                 f"(effects={list(eff.names())}); pass 0.0 or select the effect")
-            if N == 0.0 or (mu == 0.0 and self._saturates):
-                # Wheel lifted (no load) or frictionless contact: no tangential force.
-                return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
-            # with every input selected, _moderate was already False above
-            if self._all_inputs or not _moderate(xi, eta, phi, N, mu, a, b, G, nu,
-                                                 self._saturates):
-                return self._similar(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
-        r = self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
-        if self._saturates and math.hypot(r.Fx, r.Fy) > mu * N:
-            return self._held(r, mu * N)
-        return r
+        try:
+            if not (self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu,
+                                                   self._saturates)):
+                check_inputs(xi, eta, phi, N, mu, a, b, G, nu)
+                eff = self.effects
+                if ((xi and not eff.longitudinal) or (eta and not eff.lateral)
+                        or (phi and not eff.spin)):
+                    off = [n for n, v, on in (("xi", xi, eff.longitudinal),
+                                              ("eta", eta, eff.lateral), ("phi", phi, eff.spin))
+                           if v and not on]
+                    raise ValueError(f"{off[0]} is non-zero but its effect is not selected "
+                                     f"(effects={list(eff.names())}); pass 0.0 or select the "
+                                     "effect")
+                if N == 0.0 or (mu == 0.0 and self._saturates):
+                    # Wheel lifted (no load) or frictionless contact: no tangential force.
+                    return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
+                # with every input selected, _moderate was already False above
+                if self._all_inputs or not _moderate(xi, eta, phi, N, mu, a, b, G, nu,
+                                                     self._saturates):
+                    return self._similar(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+            r = self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+            if self._saturates and math.hypot(r.Fx, r.Fy) > mu * N:
+                return self._held(r, mu * N)
+            return r
+        except (TypeError, ValueError, OverflowError) as e:  # (no cost unless raised)
+            raise _not_a_number((xi, eta, phi, N, mu, a, b, G, nu)) or e from None
 
     @staticmethod
     def _held(r: ContactResult, bound: float) -> ContactResult:

@@ -81,6 +81,18 @@ def test_every_finite_input_gives_a_bounded_answer_or_names_the_argument(
     forces_ok(method, r, kw)
 
 
+NOT_NUMBERS = [None, "0.001", np.array([1e-3, 2e-3]), 1e-3 + 0j, 10 ** 400]
+
+
+@pytest.mark.parametrize("method", list(SOLVERS))
+@pytest.mark.parametrize("name", ["xi", "N", "G"])
+@pytest.mark.parametrize("bad", NOT_NUMBERS, ids=["None", "str", "array", "complex", "huge int"])
+def test_an_input_that_is_not_a_number_is_named(method, name, bad):
+    kw = dict(xi=1e-3, eta=0.0, phi=0.0, N=1e5, mu=0.3, a=6e-3, b=4e-3, G=8e10, nu=0.28)
+    with pytest.raises(ValueError, match=f"^{name}=.* is not a number: allowed a real scalar"):
+        solve(method, **{**kw, name: bad})
+
+
 # ----------------------------------------------------------------------------------------------
 # The physical range
 # ----------------------------------------------------------------------------------------------
