@@ -50,13 +50,13 @@ from __future__ import annotations
 
 import csv
 import math
-import warnings
 from bisect import bisect_right
 from importlib import resources
 
 import numpy as np
 from scipy.interpolate import BSpline, PPoly, RectBivariateSpline
 
+from . import notices
 from .cache import cached
 
 #: Supported range of a/b (table 0.1..10 plus Kalker's asymptotes beyond it).
@@ -180,7 +180,7 @@ def _coefficients(a_over_b: float, nu: float) -> tuple[float, float, float, floa
         c = _blend(_asymptote_thin_b(1.0 / a_over_b, nu), _asymptote_thin_b(_TABLE_EDGE, nu),
                    edge, 1.0 / a_over_b)
         c[3] = edge[3]
-        warnings.warn(f"C33 for a/b > {_RATIOS[-1]:g} is held at its tabulated value at "
+        notices.warn(f"C33 for a/b > {_RATIOS[-1]:g} is held at its tabulated value at "
                       f"a/b = {_RATIOS[-1]:g} (Kalker gives no asymptote for it)",
                       CoefficientExtrapolationWarning, stacklevel=3)
     return (c[0], c[1], c[2], c[3])

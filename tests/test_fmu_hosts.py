@@ -122,6 +122,37 @@ def test_new_process_reuses_compiled_code(fmus, tmp_path):
     assert misses == 0 and hits >= 5, (hits, misses)
 
 
+def test_first_instances_from_threads_at_once(fmus):
+    """Two threads of a new process instantiate the FMU at the same moment: both load its code
+    (the first load, which releases the interpreter lock while it imports, once raced the
+    second: "defines no subclass of Fmi2Slave", 1 run in 4). Five fresh processes."""
+    code = (
+        "import sys, threading\n"
+        "from fmpy import read_model_description, extract\n"
+        "from fmpy.fmi2 import FMU2Slave\n"
+        "path = sys.argv[1]\n"
+        "md, folder = read_model_description(path), extract(path)\n"
+        "lock, go, out = threading.Lock(), threading.Barrier(2), []\n"
+        "def one(name):\n"
+        "    with lock:  # fmpy's constructor changes the working directory\n"
+        "        fmu = FMU2Slave(guid=md.guid, unzipDirectory=folder, instanceName=name,\n"
+        "                        modelIdentifier=md.coSimulation.modelIdentifier)\n"
+        "    go.wait()\n"
+        "    try:\n"
+        "        fmu.instantiate()\n"
+        "        out.append('ok')\n"
+        "        fmu.freeInstance()\n"
+        "    except Exception as e:\n"
+        "        out.append(repr(e))\n"
+        "ts = [threading.Thread(target=one, args=(n,)) for n in ('a', 'b')]\n"
+        "[t.start() for t in ts]; [t.join() for t in ts]\n"
+        "print(sorted(out))\n")
+    for _ in range(5):
+        out = subprocess.run([sys.executable, "-c", code, str(fmus["traction"])], check=True,
+                             capture_output=True, text=True).stdout
+        assert out.splitlines()[-1] == "['ok', 'ok']", out
+
+
 def test_no_memory_growth_in_long_runs():
     """RSS over 1e5 refused steps with logging on, and over 300 instantiate/step/free cycles
     (examples/bench_fmu_leaks.py, a fresh process)."""

@@ -359,11 +359,78 @@ def test_core_warnings_go_to_the_logger_whatever_the_host_filters(fmus, k, host_
     assert_rel(forces[:3], [r.Fx, r.Fy, r.Mz])
 
 
+NOT_CONVERGED = {"method": "exact", "maxit": 1, "mx": 12, "my": 12, "extrapolate": False}
+
+
 def test_a_step_that_did_not_converge_returns_a_warning(fmus):
-    with FmuInstance(fmus["full"], start={"method": "exact", "maxit": 1, "mx": 12, "my": 12,
-                                          "extrapolate": False}) as inst:
+    with FmuInstance(fmus["full"], start=NOT_CONVERGED) as inst:
         assert do_step(inst, **INPUTS[0]) == WARNING
         assert "stopped after 1 iterations" in inst.messages[-1][1]
+
+
+def test_reading_outputs_after_a_step_that_did_not_converge_changes_nothing(fmus):
+    """Reads return the step's outputs, however often (FMI 2.0 sec. 4.2.4: getting values does
+    not change the model); the next step, not a read, goes on iterating."""
+    with FmuInstance(fmus["full"], "a", NOT_CONVERGED) as a, \
+            FmuInstance(fmus["full"], "b", NOT_CONVERGED) as b:
+        for u in INPUTS[:2]:
+            do_step(a, **u)
+            first = outputs(a)
+            assert outputs(a) == first and outputs(a) == first
+            b.set(**u)
+            assert outputs(b) == first     # "set, get, step, get" = "set, step, get"
+            do_step(b)
+            assert outputs(b) != first     # the step iterated further from there
+            do_step(a)                     # and so does a step without new inputs
+            assert outputs(a) == outputs(b)
+
+
+def test_outputs_read_after_terminate_are_those_of_the_last_inputs(fmus):
+    with FmuInstance(fmus["full"], start={"method": "johnson_vermeulen"}) as inst:
+        inst.step(**INPUTS[0])
+        inst.set(**INPUTS[1])
+        inst.fmu.terminate()
+        inst.initialized = False
+        assert_rel(outputs(inst), reference("johnson_vermeulen", **INPUTS[1])[1])
+
+
+def test_core_warnings_reach_the_logger_whenever_they_arise(fmus):
+    """Not only at the first loaded step: a later exact step that stops early, and the C33
+    warning first met after a step with μ = 0 (whose forces need no coefficient)."""
+    with warnings.catch_warnings(record=True) as escaped:
+        warnings.simplefilter("always")
+        with FmuInstance(fmus["full"], "e", {"method": "exact", "maxit": 3, "mx": 12, "my": 12,
+                                             "extrapolate": False}) as inst:
+            assert do_step(inst, **{**INPUTS[0], "xi": 0.0, "eta": 0.0, "phi": 0.0}) == OK
+            assert do_step(inst, **INPUTS[0]) == WARNING
+            assert any("ExactSolverWarning: exact: not converged" in m for _, m in inst.messages)
+        with FmuInstance(fmus["full"], "c", {"method": "johnson_vermeulen",
+                                             "R_rail_profile": 0.00213}) as inst:
+            assert do_step(inst, **{**INPUTS[0], "mu": 0.0}) == OK
+            assert do_step(inst, **INPUTS[0]) == WARNING
+            assert any("CoefficientExtrapolationWarning" in m for _, m in inst.messages)
+    assert escaped == []
+
+
+def test_instances_in_threads_leave_the_hosts_warnings_alone(fmus):
+    from concurrent.futures import ThreadPoolExecutor
+
+    def run(name):
+        with FmuInstance(fmus["full"], name, {**NOT_CONVERGED, "mx": 24, "my": 24}) as inst:
+            for k in range(40):
+                do_step(inst, **{**INPUTS[k % 4]})
+            texts = [m for s, m in inst.messages if s == WARNING]
+            return (sum("stopped after" in m for m in texts),
+                    sum("ExactSolverWarning" in m for m in texts))
+
+    filters, show = list(warnings.filters), warnings.showwarning
+    with ThreadPoolExecutor(2) as pool:
+        logged = list(pool.map(run, ["t1", "t2"]))
+    # per instance, the FMU's own message at each step that stopped early, the core's once
+    assert logged == [(40, 1), (40, 1)]
+    assert warnings.filters == filters and warnings.showwarning is show
+    with pytest.warns(UserWarning, match="the host's own"):
+        warnings.warn("the host's own", UserWarning)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -114,13 +114,13 @@ result is the last iterate (feasible: |p| <= μ p_n holds in every iterate).
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from ..base import ContactMethod, bool_option, choice_option, float_option, int_option
+from .. import notices
 from ..cache import cached
 from ..hertz import max_pressure
 from ..result import ContactResult
@@ -402,7 +402,7 @@ class Exact(ContactMethod):
                                                                kxx, kyy, fold, grid)
         converged = bool(rel <= o["tol"])
         if not converged:
-            warnings.warn(f"exact: not converged after {it} sweeps (relative update {rel:.3g} > "
+            notices.warn(f"exact: not converged after {it} sweeps (relative update {rel:.3g} > "
                           f"tol={o['tol']:g}); xi={xi:g}, eta={eta:g}, phi={phi:g}, "
                           f"a/b={a / b:g}, {mx}x{my} grid", ExactSolverWarning, stacklevel=4)
         dA = G * dx * dy

@@ -23,12 +23,12 @@ check`` (:mod:`.check`, docs/table_accuracy.md).
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import replace
 
 import numpy as np
 
 from ..base import ContactMethod
+from .. import notices
 from ..cache import cached
 from ..coefficients import SPLINE
 from ..exact import Exact
@@ -150,7 +150,7 @@ class Table(ContactMethod):
                                  self._make_slice(self._values, self._axes, log_ab, nu_in))
 
     def _outside(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
-        warnings.warn(f"table: a/b={a / b:g}, nu={nu:g} outside the table (a/b "
+        notices.warn(f"table: a/b={a / b:g}, nu={nu:g} outside the table (a/b "
                       f"{self._ab_range[0]:g}..{self._ab_range[1]:g}, nu "
                       f"{self._nu_range[0]:g}..{self._nu_range[1]:g}): solved by the exact "
                       "method", TableDomainWarning, stacklevel=4)

@@ -32,7 +32,6 @@ returns ``fmi2Discard``.
 from __future__ import annotations
 
 import math
-import warnings
 from typing import Any, Mapping
 
 from . import state as fmu_state
@@ -84,16 +83,19 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self._time = 0.0  # fmi2LastSuccessfulTime: the start time, then each step's end
         self._evaluator: contact_core.WheelRailEvaluator | None = None
         # The outputs are the law at the current inputs (the ModelStructure declares them
-        # directly dependent): a set clears it, an evaluation sets it, an output read without
-        # it evaluates first, a step with it has nothing to compute.
+        # directly dependent): a set clears _fresh, an evaluation sets it, an output read
+        # without it evaluates first; a step with it has nothing to compute unless the last
+        # evaluation stopped before converging (_converged), which the next step goes on with.
         self._fresh = False
+        self._converged = True
         self._handover_logged = False
-        # The core's Python warnings (e.g. C33 held beyond a/b = 10, the table's fallback, an
-        # exact solve that stopped early) go to the FMI logger, not to the host's stderr or its
-        # warning filters: caught until the first loaded step (the a/b of an instance is fixed),
-        # and at every step once one was seen or the host's filters raised one (catching costs
-        # microseconds per step: not otherwise).
-        self._catching = False
+        # The core's warnings (C33 held beyond a/b = 10, the table's fallback, an exact solve
+        # that stopped early) go to the FMI logger once per kind, never to the host's warning
+        # filters or stderr: contact_core.notices' sink of this thread, set around each
+        # evaluation.
+        self._notices = contact_core.notices.local
+        self._sink = self._core_warning
+        self._context: tuple[str, float] = ("", 0.0)
         self._forwarded: set[type] = set()
         for spec in self._specs:
             if hasattr(type(self), spec.name) or spec.name.startswith("_"):
@@ -193,7 +195,8 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             self._reject(f"fmi2DoStep at t={current_time!r} with communicationStepSize="
                          f"{step_size!r}: allowed a step size > 0 and a finite time")
             return False
-        if not (self._fresh or self._step(current_time, "fmi2DoStep", self._refusal)):
+        if not ((self._fresh and self._converged)
+                or self._step(current_time, "fmi2DoStep", self._refusal)):
             return False
         self._time = end
         return True
@@ -204,23 +207,19 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         return self._time
 
     def _evaluate(self, t: float, where: str) -> contact_core.ContactResult:
-        ev = self._evaluator
-        if not (self._catching or (ev.last is None and self.N > 0.0)):  # (lifted: no warning)
-            try:
-                return ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
-            except Warning:  # the host's filters raise warnings: the step again, caught
-                self._catching = True  # (a warning is raised before the result is kept)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            r = ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
-        if caught:
-            self._catching = True
-        for w in caught:
-            if w.category not in self._forwarded:
-                self._forwarded.add(w.category)
-                self.log(f"{where} at t={t!r}: {w.category.__name__}: {w.message} (logged once "
-                         "per kind)", Fmi2Status.warning)
-        return r
+        self._context = (where, t)
+        self._notices.sink = self._sink
+        try:
+            return self._evaluator.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
+        finally:
+            self._notices.sink = None
+
+    def _core_warning(self, category: type[Warning], message: str) -> None:
+        if category not in self._forwarded:
+            self._forwarded.add(category)
+            where, t = self._context
+            self.log(f"{where} at t={t!r}: {category.__name__}: {message} (logged once per "
+                     "kind)", Fmi2Status.warning)
 
     def _step(self, t: float, where: str, refusal: int) -> bool:
         ev = self._evaluator
@@ -241,7 +240,8 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self.p0 = ev.p0
         self.slip_fraction = r.slip_fraction
         self.method_used = ev.method_code
-        self._fresh = r.converged  # (a step that did not converge goes on iterating)
+        self._fresh = True
+        self._converged = r.converged
         if r.method != ev.config.method and not self._handover_logged:
             self._handover_logged = True
             self.log(f"{where} at t={t!r}: a/b = {ev.a / ev.b:.6g}, nu = {ev.nu:g} are outside "
@@ -249,7 +249,6 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
                      f"{r.method!r} (method_used = {ev.method_code}); logged once",
                      Fmi2Status.warning)
         if not r.converged:
-            self._catching = True  # the core warned too: its next warnings go to the logger
             self.log(f"{where} at t={t!r}: method {r.method!r} stopped after {r.iterations} "
                      f"iterations at residual {r.residual!r}", Fmi2Status.warning)
         return True
@@ -312,7 +311,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         if self._mode == "initialization":
             if self._evaluator is None:
                 self._initial_outputs(f"{where} in initialization mode")
-        elif self._mode == "step":
+        elif self._evaluator is not None:  # step or terminated mode
             self._step(self._time, where, Fmi2Status.warning)
 
     def _set(self, vrs, values, kind: str) -> None:
@@ -410,6 +409,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self._enter(st.mode)
         self._time = st.time
         self._fresh = st.fresh
+        self._converged = st.result is None or st.result.converged
         if evaluator is not None:
             evaluator.last = st.result
         self._evaluator = evaluator

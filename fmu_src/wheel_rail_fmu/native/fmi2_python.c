@@ -55,15 +55,22 @@
 #endif
 
 /* Key in sys.modules of the helper module below (versioned: another build may define its own). */
-#define LOADER_MODULE "_fmi2_python_loader_3"
+#define LOADER_MODULE "_fmi2_python_loader_4"
 
 static const char LOADER_SOURCE[] =
-    "import importlib.util, sys, traceback\n"
+    "import importlib.util, sys, threading, traceback\n"
     "from pathlib import Path\n"
     "\n"
     "ADDED = []\n"
+    "# one load at a time: a module executing in one thread (the GIL is released while it\n"
+    "# imports) is in sys.modules half made, and another thread must not take it\n"
+    "LOCK = threading.Lock()\n"
     "\n"
     "def load(resources, guid):\n"
+    "    with LOCK:\n"
+    "        return _load(resources, guid)\n"
+    "\n"
+    "def _load(resources, guid):\n"
     "    folder = Path(resources)\n"
     "    md = folder.parent / 'modelDescription.xml'\n"
     "    if md.is_file():\n"
@@ -231,8 +238,15 @@ static PyObject *loader(void) {
     PyObject *r = PyRun_String(LOADER_SOURCE, Py_file_input, dict, dict);
     if (r == NULL) goto fail;
     Py_DECREF(r);
-    if (PyDict_SetItemString(modules, LOADER_MODULE, mod) < 0) goto fail;
-    return mod;
+    /* Running the source may release the GIL (imports): another thread may have registered its
+       loader meanwhile, and its lock must be the only one. The first registered is kept. */
+    PyObject *key = PyUnicode_FromString(LOADER_MODULE);
+    PyObject *kept = key ? PyDict_SetDefault(modules, key, mod) : NULL;
+    Py_XDECREF(key);
+    if (kept == NULL) goto fail;
+    Py_INCREF(kept);
+    Py_DECREF(mod);
+    return kept;
 fail:
     Py_DECREF(mod);
     return NULL;
