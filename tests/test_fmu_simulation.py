@@ -57,7 +57,7 @@ def status_of(call, *args, **kwargs) -> int:
         r = call(*args, **kwargs)
     except FMICallException as e:
         return e.status
-    return r if isinstance(r, int) else OK
+    return r if type(r) is int else OK  # (a status is an int, never a bool or a list)
 
 
 def do_step(inst: FmuInstance, h: float = 1e-3, **inputs: float) -> int:
