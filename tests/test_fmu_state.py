@@ -171,6 +171,7 @@ def _crafted(blob: bytes, tmp_path) -> dict[str, bytes]:
         "no time": _envelope({k: v for k, v in header.items() if k != "time"}, data),
         "infinite time": edit(time=float("inf")),
         "time not a number": edit(time="0.1"),
+        "fresh not a boolean": edit(fresh=1),
         # integers beyond the float range, where JSON has numbers
         "huge integer time": edit(time=10 ** 400),
         "huge integer Real": edit(values={**values, "E": 10 ** 400}),
