@@ -233,8 +233,11 @@ class ContactMethod(ABC):
             if self._saturates and math.hypot(r.Fx, r.Fy) > mu * N:
                 return self._held(r, mu * N)
             return r
-        except (TypeError, ValueError, OverflowError) as e:  # (no cost unless raised)
-            raise _not_a_number((xi, eta, phi, N, mu, a, b, G, nu)) or e from None
+        except (TypeError, ValueError, OverflowError):  # (no cost unless raised)
+            named = _not_a_number((xi, eta, phi, N, mu, a, b, G, nu))
+            if named is None:
+                raise
+            raise named from None
 
     @staticmethod
     def _held(r: ContactResult, bound: float) -> ContactResult:
