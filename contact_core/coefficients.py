@@ -181,8 +181,8 @@ def _coefficients(a_over_b: float, nu: float) -> tuple[float, float, float, floa
                    edge, 1.0 / a_over_b)
         c[3] = edge[3]
         notices.warn(f"C33 for a/b > {_RATIOS[-1]:g} is held at its tabulated value at "
-                      f"a/b = {_RATIOS[-1]:g} (Kalker gives no asymptote for it)",
-                      CoefficientExtrapolationWarning, stacklevel=3)
+                     f"a/b = {_RATIOS[-1]:g} (Kalker gives no asymptote for it)",
+                     CoefficientExtrapolationWarning, stacklevel=3)
     return (c[0], c[1], c[2], c[3])
 
 

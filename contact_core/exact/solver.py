@@ -119,8 +119,8 @@ from typing import Any
 
 import numpy as np
 
-from ..base import ContactMethod, bool_option, choice_option, float_option, int_option
 from .. import notices
+from ..base import ContactMethod, bool_option, choice_option, float_option, int_option
 from ..cache import cached
 from ..hertz import max_pressure
 from ..result import ContactResult
@@ -403,8 +403,8 @@ class Exact(ContactMethod):
         converged = bool(rel <= o["tol"])
         if not converged:
             notices.warn(f"exact: not converged after {it} sweeps (relative update {rel:.3g} > "
-                          f"tol={o['tol']:g}); xi={xi:g}, eta={eta:g}, phi={phi:g}, "
-                          f"a/b={a / b:g}, {mx}x{my} grid", ExactSolverWarning, stacklevel=4)
+                         f"tol={o['tol']:g}); xi={xi:g}, eta={eta:g}, phi={phi:g}, "
+                         f"a/b={a / b:g}, {mx}x{my} grid", ExactSolverWarning, stacklevel=4)
         dA = G * dx * dy
         Fx = float(px.sum()) * dA if eff.longitudinal else 0.0
         # half grid: X even and Y odd in y, so Fy = Mz = 0 exactly (not only to rounding)

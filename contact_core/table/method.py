@@ -27,8 +27,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..base import ContactMethod
 from .. import notices
+from ..base import ContactMethod
 from ..cache import cached
 from ..coefficients import SPLINE
 from ..exact import Exact
@@ -151,9 +151,9 @@ class Table(ContactMethod):
 
     def _outside(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         notices.warn(f"table: a/b={a / b:g}, nu={nu:g} outside the table (a/b "
-                      f"{self._ab_range[0]:g}..{self._ab_range[1]:g}, nu "
-                      f"{self._nu_range[0]:g}..{self._nu_range[1]:g}): solved by the exact "
-                      "method", TableDomainWarning, stacklevel=4)
+                     f"{self._ab_range[0]:g}..{self._ab_range[1]:g}, nu "
+                     f"{self._nu_range[0]:g}..{self._nu_range[1]:g}): solved by the exact "
+                     "method", TableDomainWarning, stacklevel=4)
         if self._fallback is None:
             self._fallback = Exact(self.effects)
         start = warm_start if getattr(warm_start, "method", None) == "exact" else None

@@ -206,14 +206,6 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         step done, or the start time before the first; an FMU state holds it."""
         return self._time
 
-    def _evaluate(self, t: float, where: str) -> contact_core.ContactResult:
-        self._context = (where, t)
-        self._notices.sink = self._sink
-        try:
-            return self._evaluator.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
-        finally:
-            self._notices.sink = None
-
     def _core_warning(self, category: type[Warning], message: str) -> None:
         if category not in self._forwarded:
             self._forwarded.add(category)
@@ -223,8 +215,10 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
 
     def _step(self, t: float, where: str, refusal: int) -> bool:
         ev = self._evaluator
+        self._context = (where, t)
+        self._notices.sink = self._sink
         try:
-            r = self._evaluate(t, where)
+            r = ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
         except ValueError as e:  # names the input and its allowed range
             self._reject(f"{where} at t={t!r} refused: {e}; outputs keep their last values",
                          refusal)
@@ -232,6 +226,8 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         except Exception as e:  # a method's failure: the step cannot be done
             self._reject(f"{where} at t={t!r} failed: {type(e).__name__}: {e}")
             return False
+        finally:
+            self._notices.sink = None
         self.Fx = r.Fx
         self.Fy = r.Fy
         self.Mz = r.Mz
