@@ -17,8 +17,10 @@ size (``LIMIT_GRIDS``; its 24,800 solves on 200×200 and 400×400 take most of t
 part of the theory's.
 
 Errors, in % of μN (forces) and of μN·c (Mz, c = √(ab)), against the references of the two
-reports: on the benchmark the error of |F| (``contact_core.bench.report.errors``; its reference
-as ``python -m contact_core.bench --full`` computes it, with two finer grids,
+reports: on the benchmark the error of |F| (``contact_core.bench.report.errors`` with
+``magnitude=True``, the metric CONTACT's results were first compared in and the one its exported
+references keep; its reference as ``python -m contact_core.bench --full`` computes it, with two
+finer grids,
 ``BENCH_REFERENCE_GRIDS``, kept in ``build/bench_reference``), on the held-out sets the vector
 error of (Fx, Fy) (``contact_core.table.check.errors``; references kept in
 ``build/table_check_reference`` by ``python -m contact_core.table check``; both are computed again
@@ -123,7 +125,7 @@ def series_cells(bench, refs, bench_res: np.ndarray, held, held_refs,
     """p95 / max per series of one program's results on the benchmark (``bench_res``, its cases
     in order) and on the held-out sets (``held_res``, one array per set of ``held``)."""
     kind = np.array([c.kind for c in bench])
-    eF, eM = bench_errors(bench, refs, bench_res)
+    eF, eM = bench_errors(bench, refs, bench_res, magnitude=True)
     cells = {f"benchmark, {title}": cell(100 * eF[kind == k]) for k, title in KINDS}
     cells["benchmark, Mz (all but pure ξ)"] = cell(100 * eM)
     for (_, title, cases, _), ref, res in zip(held, held_refs, held_res):

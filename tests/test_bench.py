@@ -115,6 +115,14 @@ def _scaled(method: str, factor: float, **options):
     return call
 
 
+def _rotated(method: str, angle: float, **options):
+    def call(**kw):
+        r = cc.solve(method, **kw, **options)
+        cs, sn = math.cos(angle), math.sin(angle)
+        return replace(r, Fx=cs * r.Fx - sn * r.Fy, Fy=sn * r.Fx + cs * r.Fy)
+    return call
+
+
 @pytest.fixture(scope="module")
 def perturbed():
     cases = [c for c in make_cases("short") if c.a_over_b == 1.0 and c.mu == 0.2]
@@ -122,21 +130,22 @@ def perturbed():
     settings = [Setting("linear", "linear"),
                 Setting("exact 16×16", "exact", (("mx", 16), ("my", 16), ("extrapolate", False))),
                 Setting("exact 16×16 ×1.1", "exact", family="test",
-                        call=_scaled("exact", 1.1, mx=16, my=16, extrapolate=False))]
+                        call=_scaled("exact", 1.1, mx=16, my=16, extrapolate=False)),
+                Setting("exact 16×16 turned 10°", "exact", family="test",
+                        call=_rotated("exact", math.radians(10), mx=16, my=16,
+                                      extrapolate=False))]
     # the short form's reference grids: most of these cases converge to <= 0.5 % of μN
     return run("smoke", cases=cases, settings=settings, ref_grids=REFERENCE_GRIDS["short"],
                fmu=False, repeats=1, out=None, progress=False, log=lambda *_: None)
 
 
 def _independent_reference(c, grids):
-    """|F| and Mz extrapolated to zero element size, computed here (not by the benchmark)."""
-    F, M = [], []
-    for m in grids:
-        r = cc.solve("exact", **c.solve_kwargs(), mx=m, my=m, extrapolate=False)
-        F.append(math.hypot(r.Fx, r.Fy))
-        M.append(r.Mz)
+    """Fx, Fy and Mz extrapolated to zero element size (first order in 1/m), computed here (not
+    by the benchmark)."""
+    q = [[r.Fx, r.Fy, r.Mz] for r in (cc.solve("exact", **c.solve_kwargs(), mx=m, my=m,
+                                                extrapolate=False) for m in grids)]
     x = 1.0 / np.asarray(grids, dtype=float)
-    return np.polyfit(x, F, 1)[1], np.polyfit(x, M, 1)[1]
+    return np.polyfit(x, np.array(q), 1)[1]
 
 
 def test_errors_are_against_the_reference(perturbed):
@@ -146,16 +155,41 @@ def test_errors_are_against_the_reference(perturbed):
     assert len(ok) >= 6
     eF_pert, _ = errors(res.cases, res.refs, res.results["exact 16×16 ×1.1"])
     eF_base, _ = errors(res.cases, res.refs, res.results["exact 16×16"])
+    eF_mag, _ = errors(res.cases, res.refs, res.results["exact 16×16 ×1.1"], magnitude=True)
     for j in ok[::2]:
         c = res.cases[j]
-        F_ref, M_ref = _independent_reference(c, grids)
-        assert res.refs[j].F == pytest.approx(F_ref, rel=1e-9, abs=1e-9 * c.mu * c.N)
+        fx, fy, mz = _independent_reference(c, grids)
+        ref = res.refs[j]
+        fs = c.mu * c.N
+        assert (ref.Fx, ref.Fy) == pytest.approx((fx, fy), rel=1e-9, abs=1e-9 * fs)
+        assert ref.Mz == pytest.approx(mz, rel=1e-9, abs=1e-9 * fs * c.c)
         r16 = cc.solve("exact", **c.solve_kwargs(), mx=16, my=16, extrapolate=False)
-        F16 = math.hypot(r16.Fx, r16.Fy)
-        assert eF_pert[j] == pytest.approx(abs(1.1 * F16 - F_ref) / (c.mu * c.N), rel=1e-9)
-        assert eF_base[j] == pytest.approx(abs(F16 - F_ref) / (c.mu * c.N), rel=1e-9)
+        # the force error is the vector's: its direction counts, not its magnitude alone
+        assert eF_pert[j] == pytest.approx(math.hypot(1.1 * r16.Fx - fx, 1.1 * r16.Fy - fy) / fs,
+                                           rel=1e-9)
+        assert eF_base[j] == pytest.approx(math.hypot(r16.Fx - fx, r16.Fy - fy) / fs, rel=1e-9)
+        assert eF_mag[j] == pytest.approx(
+            abs(1.1 * math.hypot(r16.Fx, r16.Fy) - math.hypot(fx, fy)) / fs, rel=1e-9)
+        assert eF_mag[j] <= eF_pert[j] * (1 + 1e-12)
         # 1.1 F16 - F_ref = 0.1 F_ref + 1.1 (F16 - F_ref): the perturbation shows in full
-        assert abs(eF_pert[j] - 0.1 * F_ref / (c.mu * c.N)) <= 1.1 * eF_base[j] + 1e-12
+        assert abs(eF_pert[j] - 0.1 * math.hypot(fx, fy) / fs) <= 1.1 * eF_base[j] + 1e-12
+
+
+def test_a_wrong_direction_shows_at_the_right_magnitude(perturbed):
+    # the force turned by 10° keeps its magnitude: only the vector error sees it, as
+    # |F_ref| · 2 sin(5°) = 0.174 |F_ref| (up to the 16×16 grid's own error)
+    res = perturbed
+    turned = res.results["exact 16×16 turned 10°"]
+    eF, _ = errors(res.cases, res.refs, turned)
+    eF_mag, _ = errors(res.cases, res.refs, turned, magnitude=True)
+    eF_base, _ = errors(res.cases, res.refs, res.results["exact 16×16"])
+    chord = 2 * math.sin(math.radians(5))
+    for j, (c, r) in enumerate(zip(res.cases, res.refs)):
+        if not r.converged:
+            continue
+        expected = chord * r.F / (c.mu * c.N)
+        assert abs(eF[j] - expected) <= eF_base[j] + 1e-12
+        assert eF_mag[j] <= eF_base[j] + 1e-12
 
 
 def test_perturbation_shows_in_the_table(perturbed):

@@ -9,15 +9,19 @@ designing this module (|F|/μN on m = 48, 64, 96, 128): a/b = 1, η, τ = 0.28: 
 0.25509, 0.25451, i.e. slopes in 1/m of 0.209, 0.223, 0.223 (first order); a/b = 5, ξ, τ = 0.96:
 slopes 0.56, 0.45, 0.51 (first order plus scatter); the Mz of a/b = 5 spin τ = 0.59: 1.27, 1.22,
 1.21. Grids of 32 and below are not yet in that range (slopes about half), so the grids start at
-40. Per case and per quantity q ∈ {|F|, Mz}:
+40. Per case and per quantity q ∈ {Fx, Fy, Mz}:
 
 * **reference** q∞: least-squares fit of q(m) = q∞ + C/m over the grids (Richardson
   extrapolation with p = 1; a least-squares fit over a wide range of m rather than the two-grid
-  formula, which amplifies the irregular part: 4 q₆₄ - 3 q₄₈ multiplies it by 5);
+  formula, which amplifies the irregular part: 4 q₆₄ - 3 q₄₈ multiplies it by 5); the force is
+  the vector (Fx∞, Fy∞), so that its direction is a reference too (an error of a method's
+  direction at the right magnitude shows);
 * **uncertainty** u: 95 % confidence half-width of q∞, Student t times its standard error, with
   the scatter about the fit pooled over the cases of the same a/b and kind (a case's own scatter
-  if larger): with four grids a single case has two degrees of freedom only;
-* **two-grid check** d: |q(finest) - q∞|, how far the finest grid alone is from the reference;
+  if larger): with four grids a single case has two degrees of freedom only; the force's
+  u_F = √(u_Fx² + u_Fy²), the half-width of the vector's error from its components';
+* **two-grid check** d: |q(finest) - q∞| (the force's: of the vector), how far the finest grid
+  alone is from the reference;
 * **converged** if every grid's exact solve converged, u_F <= ``tol_force`` (default 0.5 % of
   μN) and u_M <= ``tol_moment`` (default 0.5 % of μN·c, c = √(ab)). Cases that fail are listed
   and excluded from the statistics, never silently used.
@@ -64,11 +68,12 @@ TOL_MOMENT = 0.005    # of μN·c
 
 @dataclass(frozen=True)
 class Reference:
-    """The reference of one case. ``F``: |F| = √(Fx² + Fy²) in N; ``Mz`` in N·m; ``u_*`` and
-    ``d_*`` (see the module docstring) normalised by μN (force) and μN·c (moment)."""
+    """The reference of one case. ``Fx``, ``Fy`` in N, ``Mz`` in N·m (Kalker's sign convention);
+    ``u_*`` and ``d_*`` (see the module docstring) normalised by μN (force) and μN·c (moment)."""
 
     case_id: int
-    F: float
+    Fx: float
+    Fy: float
     Mz: float
     u_F: float
     u_M: float
@@ -81,6 +86,11 @@ class Reference:
     converged: bool
     reason: str                      # why not converged ("" if converged)
     seconds: float                   # CPU time of all grids of this case
+
+    @property
+    def F(self) -> float:
+        """|F| = √(Fx² + Fy²) in N."""
+        return math.hypot(self.Fx, self.Fy)
 
 
 def _solve_exact(kwargs: dict[str, float], m: int) -> tuple[float, float, float, bool, float]:
@@ -118,46 +128,45 @@ def fit_extrapolation(m: Sequence[int], q: Sequence[float]) -> tuple[float, floa
 
 def _build(cases: Sequence[Case], grids: tuple[int, ...], sols: Sequence[dict[int, tuple]],
            tol_force: float, tol_moment: float) -> list[Reference]:
-    n = len(grids)
-    dof1 = n - 2
+    dof1 = len(grids) - 2
+    # per case and quantity (Fx, Fy over μN, Mz over μN·c): the fit (q∞, rss, v00)
     fits = []
     for c, sol in zip(cases, sols):
-        F = [math.hypot(sol[m][0], sol[m][1]) for m in grids]
-        M = [sol[m][2] for m in grids]
-        fs, ms = c.mu * c.N, c.mu * c.N * c.c
-        fF = fit_extrapolation(grids, [f / fs for f in F])
-        fM = fit_extrapolation(grids, [v / ms for v in M])
-        fits.append((F, M, fF, fM))
-    # scatter pooled per (a/b, kind)
+        scale = (c.mu * c.N, c.mu * c.N, c.mu * c.N * c.c)
+        fits.append([fit_extrapolation(grids, [sol[m][k] / scale[k] for m in grids])
+                     for k in range(3)])
+    # scatter pooled per (a/b, kind) and quantity
     pool: dict[tuple, list[float]] = {}
-    for c, (_, _, fF, fM) in zip(cases, fits):
-        acc = pool.setdefault((c.a_over_b, c.kind), [0.0, 0.0, 0])
-        acc[0] += fF[1]
-        acc[1] += fM[1]
-        acc[2] += dof1
+    for c, fit in zip(cases, fits):
+        acc = pool.setdefault((c.a_over_b, c.kind), [0.0, 0.0, 0.0, 0])
+        for k in range(3):
+            acc[k] += fit[k][1]
+        acc[3] += dof1
     out = []
-    for c, sol, (F, M, fF, fM) in zip(cases, sols, fits):
-        rssF, rssM, dof = pool[(c.a_over_b, c.kind)]
+    for c, sol, fit in zip(cases, sols, fits):
+        *rss, dof = pool[(c.a_over_b, c.kind)]
         t = float(stats.t.ppf(0.975, dof)) if dof > 0 else math.nan
-        sF = max(rssF / dof, fF[1] / dof1) if dof > 0 else math.nan
-        sM = max(rssM / dof, fM[1] / dof1) if dof > 0 else math.nan
-        uF = t * math.sqrt(sF * fF[2])
-        uM = t * math.sqrt(sM * fM[2])
+        u = [t * math.sqrt(max(rss[k] / dof, fit[k][1] / dof1) * fit[k][2]) if dof > 0
+             else math.nan for k in range(3)]
+        (fx, _, _), (fy, _, _), (mz, _, _) = fit
+        finest = sol[grids[-1]]
         fs, ms = c.mu * c.N, c.mu * c.N * c.c
-        F_inf, M_inf = fF[0] * fs, fM[0] * ms
-        dF, dM = abs(F[-1] / fs - fF[0]), abs(M[-1] / ms - fM[0])
+        uF, uM = math.hypot(u[0], u[1]), u[2]
+        dF = math.hypot(finest[0] / fs - fx, finest[1] / fs - fy)
+        dM = abs(finest[2] / ms - mz)
         solver_ok = all(sol[m][3] for m in grids)
         reasons = []
         if not solver_ok:
             bad = [m for m in grids if not sol[m][3]]
             reasons.append(f"exact solver not converged on grid(s) {bad}")
         if not uF <= tol_force:   # also catches NaN
-            reasons.append(f"|F| uncertainty {100 * uF:.2f} % of μN > {100 * tol_force:.2g} %")
+            reasons.append(f"F uncertainty {100 * uF:.2f} % of μN > {100 * tol_force:.2g} %")
         if not uM <= tol_moment:
             reasons.append(f"Mz uncertainty {100 * uM:.2f} % of μN·c > {100 * tol_moment:.2g} %")
-        out.append(Reference(c.id, F_inf, M_inf, uF, uM, dF, dM, tuple(grids), tuple(F),
-                             tuple(M), solver_ok, not reasons, "; ".join(reasons),
-                             sum(sol[m][4] for m in grids)))
+        out.append(Reference(c.id, fx * fs, fy * fs, mz * ms, uF, uM, dF, dM, tuple(grids),
+                             tuple(math.hypot(sol[m][0], sol[m][1]) for m in grids),
+                             tuple(sol[m][2] for m in grids), solver_ok, not reasons,
+                             "; ".join(reasons), sum(sol[m][4] for m in grids)))
     return out
 
 

@@ -2,9 +2,11 @@
 
 Error metrics (per case; the reference from :mod:`.reference`):
 
-* force: ``| |F| - |F_ref| | / (μN)`` with ``|F| = √(Fx² + Fy²)`` — the error in the magnitude of
-  the creep force as a fraction of the friction limit (what a vehicle model's wheel-rail force
-  is off by, in units it can compare across loads and friction);
+* force: ``|F - F_ref| / (μN)`` with ``F = (Fx, Fy)`` — the error of the creep force vector,
+  magnitude and direction, as a fraction of the friction limit (what a vehicle model's
+  wheel-rail force is off by, in units it can compare across loads and friction). The error of
+  the magnitude alone, ``| |F| - |F_ref| |``, is never larger and misses a method whose force
+  points the wrong way (Johnson–Vermeulen's under combined creepage near saturation);
 * moment: ``|Mz - Mz_ref| / (μN·c)``, ``c = √(ab)`` — μN·c is the natural scale of the spin
   moment (the moment of a friction-limited traction over the patch is a fraction of it).
 
@@ -41,18 +43,19 @@ class SettingStats:
     t_fmu: tuple[float, float, float] | None
 
 
-def errors(cases: Sequence[Case], refs: Sequence[Reference],
-           results: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def errors(cases: Sequence[Case], refs: Sequence[Reference], results: np.ndarray, *,
+           magnitude: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """(force error, moment error) per case of one setting's ``results`` (cases × [Fx, Fy, Mz,
-    ...]): the error of |F| (not of the vector F) over μN and of Mz over μN·c; NaN where the
-    reference is not converged."""
+    ...]): the error of the vector F (``magnitude``: of |F| only) over μN and of Mz over μN·c;
+    NaN where the reference is not converged."""
     eF = np.full(len(cases), np.nan)
     eM = np.full(len(cases), np.nan)
     for j, (c, r) in enumerate(zip(cases, refs)):
         if not r.converged:
             continue
         Fx, Fy, Mz = results[j, :3]
-        eF[j] = abs(math.hypot(Fx, Fy) - r.F) / (c.mu * c.N)
+        eF[j] = (abs(math.hypot(Fx, Fy) - r.F) if magnitude
+                 else math.hypot(Fx - r.Fx, Fy - r.Fy)) / (c.mu * c.N)
         if c.kind != "longitudinal":  # pure ξ: Mz = 0 by symmetry for every method
             eM[j] = abs(Mz - r.Mz) / (c.mu * c.N * c.c)
     return eF, eM
@@ -134,7 +137,7 @@ def _tcell(t: tuple[float, float, float] | None) -> str:
 
 def summary_table(stats: Sequence[SettingStats], regime: str = ALL) -> str:
     """The summary: one row per setting (``regime``'s cases)."""
-    head = ("| setting | n | \\|F\\| err median | p95 | max | Mz err median | p95 | max "
+    head = ("| setting | n | F err median | p95 | max | Mz err median | p95 | max "
             "| µs/call in-process | µs/step FMU |\n"
             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
     rows = []
@@ -148,7 +151,7 @@ def summary_table(stats: Sequence[SettingStats], regime: str = ALL) -> str:
 
 
 def regime_table(stats: Sequence[SettingStats]) -> str:
-    """Compact: per setting (rows) and regime (columns), |F| error median / p95 / max."""
+    """Compact: per setting (rows) and regime (columns), F error median / p95 / max."""
     regs = list(REGIMES)
     head = ("| setting | " + " | ".join(regs) + " |\n|---|" + "---:|" * len(regs) + "\n")
     by = {(s.label, s.regime): s for s in stats}
@@ -166,7 +169,7 @@ def regime_table(stats: Sequence[SettingStats]) -> str:
 
 def kind_table(settings: Sequence[Setting], cases: Sequence[Case], refs: Sequence[Reference],
                results: dict[str, np.ndarray]) -> str:
-    """Per setting (rows) and kind of creepage (columns), |F| error median / p95 / max."""
+    """Per setting (rows) and kind of creepage (columns), F error median / p95 / max."""
     kinds = list(dict.fromkeys(c.kind for c in cases))
     kind_of = np.array([c.kind for c in cases])
     head = "| setting | " + " | ".join(kinds) + " |\n|---|" + "---:|" * len(kinds) + "\n"
@@ -185,7 +188,7 @@ def kind_table(settings: Sequence[Setting], cases: Sequence[Case], refs: Sequenc
 
 def long_table(stats: Sequence[SettingStats]) -> str:
     """Every setting × regime with every column."""
-    head = ("| setting | regime | n | \\|F\\| err median | p95 | max | Mz err median | p95 | max "
+    head = ("| setting | regime | n | F err median | p95 | max | Mz err median | p95 | max "
             "| µs/call in-process | µs/step FMU |\n"
             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
     rows = [f"| {s.label} | {s.regime} | {s.n} | {_pct(s.eF[0])} | {_pct(s.eF[1])} "
@@ -196,7 +199,7 @@ def long_table(stats: Sequence[SettingStats]) -> str:
 
 def convergence_table(conv: Sequence[dict[str, Any]], grids: Sequence[int]) -> str:
     head = ("| a/b | cases | converged | u_F median / max | u_M median / max "
-            "| finest − ref \\|F\\| median / max | finest − ref Mz median / max | CPU s |\n"
+            "| finest − ref F median / max | finest − ref Mz median / max | CPU s |\n"
             "|---:|---:|---:|---:|---:|---:|---:|---:|\n")
     rows = [f"| {r['a_over_b']:g} | {r['n']} | {r['converged']} "
             f"| {r['uF_median']:.3f} / {r['uF_max']:.3f} | {r['uM_median']:.3f} / {r['uM_max']:.3f} "
@@ -224,14 +227,15 @@ def markdown(*, stats: Sequence[SettingStats], cases: Sequence[Case], refs: Sequ
         "(`contact_core/bench/cases.toml`). **Reference:** exact solver on grids "
         f"{', '.join(f'{m}×{m}' for m in grids)}, extrapolated to zero element size; "
         f"{len(refs) - n_bad} of {len(refs)} references converged "
-        f"(u ≤ {meta['tol_force'] * 100:g} % of μN for |F|, ≤ {meta['tol_moment'] * 100:g} % "
+        f"(u ≤ {meta['tol_force'] * 100:g} % of μN for F, ≤ {meta['tol_moment'] * 100:g} % "
         "of μN·c for Mz), the others are listed below and excluded.",
         "",
         f"![Pareto plot: error vs time per call]({png_name})",
         "",
-        "Errors in % (|F|: the magnitude's, ||F| − |F_ref||, of μN; Mz: of μN·c, c = √(ab)), "
-        "over all cases with a converged "
-        "reference (Mz: without the pure longitudinal cases, where Mz = 0 by symmetry). Times in µs: median over the cases (10th–90th percentile), each case the "
+        "Errors in % (F: the force vector's, |F − F_ref| with F = (Fx, Fy), direction "
+        "included, of μN; Mz: of μN·c, c = √(ab)), over all cases with a converged reference "
+        "(Mz: without the pure longitudinal cases, where Mz = 0 by symmetry). Times in µs: "
+        "median over the cases (10th–90th percentile), each case the "
         f"median of {meta['repeats']} repeats; in-process = one `contact_core.solve` call, FMU = "
         "`setReal + doStep + getReal` through fmpy's `FMU2Slave`"
         + ("" if meta.get("fmu") else " (not measured in this run: `--no-fmu`)") + ".",
@@ -239,9 +243,9 @@ def markdown(*, stats: Sequence[SettingStats], cases: Sequence[Case], refs: Sequ
         "## Summary (all regimes)",
         "",
         summary_table(stats),
-        f"Pareto-optimal (p95 |F| error vs in-process time): {', '.join(front)}.",
+        f"Pareto-optimal (p95 F error vs in-process time): {', '.join(front)}.",
         "",
-        "## |F| error per regime: median / p95 / max, % of μN",
+        "## F error per regime: median / p95 / max, % of μN",
         "",
         "Regimes by Kalker-normalised creepage τ (see `cases.toml`): linear τ < "
         f"{meta['regimes']['linear_below']:g}, partial slip up to {meta['regimes']['saturation_from']:g}, "
@@ -253,7 +257,7 @@ def markdown(*, stats: Sequence[SettingStats], cases: Sequence[Case], refs: Sequ
         regime_table(stats),
     ]
     if by_kind:
-        lines += ["## |F| error per kind of creepage: median / p95 / max, % of μN", "",
+        lines += ["## F error per kind of creepage: median / p95 / max, % of μN", "",
                   "Kinds as in `cases.toml`: pure ξ, pure η, pure φ, (ξ, η) together "
                   "(`creepage`), (ξ, η) with spin (`combined`); all regimes.", "", by_kind]
     lines += [
@@ -263,9 +267,9 @@ def markdown(*, stats: Sequence[SettingStats], cases: Sequence[Case], refs: Sequ
         "## Reference convergence per a/b",
         "",
         "u: 95 % half-width of the extrapolated value (fit q(m) = q∞ + C/m over the grids, scatter "
-        "pooled per a/b and kind); "
+        "pooled per a/b and kind; F: √(u_Fx² + u_Fy²)); "
         "finest − ref: how far the finest grid alone is from the extrapolation (the two-grid "
-        "check). All in % of μN (|F|) and μN·c (Mz). CPU s: exact-solver time of the reference.",
+        "check). All in % of μN (F) and μN·c (Mz). CPU s: exact-solver time of the reference.",
         "",
         convergence_table(conv, grids),
     ]
@@ -356,7 +360,7 @@ def plot(stats: Sequence[SettingStats], settings: Sequence[Setting], path, title
     extra = ["#9467bd", "#8c564b", "#e377c2", "#7f7f7f"]
     styles: dict[str, tuple[str, str]] = dict(_STYLE)
     floor = 1e-3
-    for ax, key, what in ((axes[0], "eF", "|F| error, % of μN"),
+    for ax, key, what in ((axes[0], "eF", "F error (vector), % of μN"),
                           (axes[1], "eM", "Mz error, % of μN·c")):
         families: dict[str, list[tuple[float, float]]] = {}
         for st in allst:

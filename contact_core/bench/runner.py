@@ -88,7 +88,7 @@ def run(form: str = "short", *, cases: Sequence[Case] | None = None,
     conv = convergence_by_ratio(cases, refs)
     log(f"reference: exact on grids {', '.join(f'{m}x{m}' for m in grids)}, "
         f"{time.perf_counter() - t0:.0f} s wall with jobs={jobs if executor is None else 'executor'}")
-    log("reference convergence per a/b (% of muN for |F|, of muN*c for Mz; u = 95 % half-width "
+    log("reference convergence per a/b (% of muN for F, of muN*c for Mz; u = 95 % half-width "
         "of the extrapolation, d = |finest grid - reference|):")
     for r in conv:
         log(f"  a/b={r['a_over_b']:<4g} {r['converged']:>3}/{r['n']:<3} converged  "
