@@ -22,9 +22,9 @@ FMU
     setting's instance is open at once and the rounds go round-robin over the settings, so that a
     slow spell of the machine hits every setting alike (timed one setting after the other, one
     run had linear theory's steps at 39 µs and FASTSIM 10×10 elliptic's at 23 µs). The first
-    round's outputs are compared with the in-process results. Note: the FMU warm-starts each step from
-    the previous one (what a co-simulation does); between unrelated cases that gains little, so
-    exact-solver steps cost about an in-process call plus the FMU overhead.
+    round's outputs are compared with the in-process results. Note: the FMU warm-starts each step
+    from the previous one (what a co-simulation does); between unrelated cases that gains little,
+    so exact-solver steps cost about an in-process call plus the FMU overhead.
 """
 from __future__ import annotations
 
