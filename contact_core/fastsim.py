@@ -99,7 +99,8 @@ and the three held-out sets of ``python -m contact_core.table check``, p95 and m
 the 48 of a second draw of the held-out sets; it is behind in 6, by 0.03-0.24 % of μN, on the
 benchmark's pure ξ, η, (ξ, η) or φ, where both programs are within 0.05 % of μN of simplified
 theory's own error or below it and differ only in how much of it each grid's first-order error
-cancels.
+cancels. Those figures count the benchmark's force by the error of its magnitude; by the vector's,
+its (ξ, η) cases with the parabolic bound are behind too (the blend's direction, above).
 
 Traction bound g = μ p_n (option ``bound``):
 
