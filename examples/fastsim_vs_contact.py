@@ -18,12 +18,14 @@ part of the theory's.
 
 Errors, in % of μN (forces) and of μN·c (Mz, c = √(ab)), against the references of the two
 reports: on the benchmark the error of |F| (``contact_core.bench.report.errors`` with
-``magnitude=True``, the metric CONTACT's results were first compared in and the one its exported
-references keep; its reference as ``python -m contact_core.bench --full`` computes it, with two
-finer grids, ``BENCH_REFERENCE_GRIDS``, kept in ``build/bench_reference``), on the held-out sets
-the vector error of (Fx, Fy) (``contact_core.table.check.errors``; references kept in
-``build/table_check_reference`` by ``python -m contact_core.table check``; both are computed again
-when the exact solver changes). Missing references are computed (hours on two cores;
+``magnitude=True``, the metric CONTACT's results were first compared in; its reference as
+``python -m contact_core.bench --full`` computes it, with two finer grids,
+``BENCH_REFERENCE_GRIDS``, kept in ``build/bench_reference``: |(Fx, Fy)| extrapolated per
+component; the exported references of 2026-11-25 hold |F| extrapolated as such, within
+0.015 % of μN of it on the full form's grids, and their convergence flags by its uncertainty),
+on the held-out sets the vector error of (Fx, Fy) (``contact_core.table.check.errors``;
+references kept in ``build/table_check_reference`` by ``python -m contact_core.table check``;
+both are computed again when the exact solver changes). Missing references are computed (hours on two cores;
 ``--workers``, ``--scheduler`` as in those commands).
 
     python examples/fastsim_vs_contact.py [--options '{"scheme": "midpoint"}']

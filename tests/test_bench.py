@@ -170,7 +170,6 @@ def test_errors_are_against_the_reference(perturbed):
         assert eF_base[j] == pytest.approx(math.hypot(r16.Fx - fx, r16.Fy - fy) / fs, rel=1e-9)
         assert eF_mag[j] == pytest.approx(
             abs(1.1 * math.hypot(r16.Fx, r16.Fy) - math.hypot(fx, fy)) / fs, rel=1e-9)
-        assert eF_mag[j] <= eF_pert[j] * (1 + 1e-12)
         # 1.1 F16 - F_ref = 0.1 F_ref + 1.1 (F16 - F_ref): the perturbation shows in full
         assert abs(eF_pert[j] - 0.1 * math.hypot(fx, fy) / fs) <= 1.1 * eF_base[j] + 1e-12
 
@@ -184,6 +183,7 @@ def test_a_wrong_direction_shows_at_the_right_magnitude(perturbed):
     eF_mag, _ = errors(res.cases, res.refs, turned, magnitude=True)
     eF_base, _ = errors(res.cases, res.refs, res.results["exact 16×16"])
     chord = 2 * math.sin(math.radians(5))
+    assert sum(r.converged for r in res.refs) >= 6
     for j, (c, r) in enumerate(zip(res.cases, res.refs)):
         if not r.converged:
             continue
@@ -217,7 +217,8 @@ def test_reference_takes_any_executor():
     inline = compute_references(cases, (12, 16, 20), progress=False)
     with ThreadPoolExecutor(2) as ex:
         pooled = compute_references(cases, (12, 16, 20), executor=ex, progress=False)
-    assert [(r.F, r.Mz, r.u_F) for r in inline] == [(r.F, r.Mz, r.u_F) for r in pooled]
+    assert [(r.Fx, r.Fy, r.Mz, r.u_F) for r in inline] == \
+        [(r.Fx, r.Fy, r.Mz, r.u_F) for r in pooled]
 
 
 def test_reference_solutions_are_kept_and_reused(tmp_path, monkeypatch):
@@ -232,8 +233,8 @@ def test_reference_solutions_are_kept_and_reused(tmp_path, monkeypatch):
         raise AssertionError("kept solutions were not reused")
     monkeypatch.setattr(reference, "grid_solutions", no_solving)
     again = reference.compute_references(cases, (12, 16, 20), progress=False, cache=tmp_path)
-    assert [(r.F, r.Mz, r.u_F, r.solver_converged) for r in again] == \
-        [(r.F, r.Mz, r.u_F, r.solver_converged) for r in first]
+    assert [(r.Fx, r.Fy, r.Mz, r.u_F, r.solver_converged) for r in again] == \
+        [(r.Fx, r.Fy, r.Mz, r.u_F, r.solver_converged) for r in first]
     with pytest.raises(AssertionError, match="not reused"):
         reference.compute_references(cases[:2], (12, 16, 20), progress=False, cache=tmp_path)
 

@@ -19,7 +19,7 @@ slopes 0.56, 0.45, 0.51 (first order plus scatter); the Mz of a/b = 5 spin τ = 
 * **uncertainty** u: 95 % confidence half-width of q∞, Student t times its standard error, with
   the scatter about the fit pooled over the cases of the same a/b and kind (a case's own scatter
   if larger): with four grids a single case has two degrees of freedom only; the force's
-  u_F = √(u_Fx² + u_Fy²), the half-width of the vector's error from its components';
+  u_F = √(u_Fx² + u_Fy²) from its components' (on the safe side for the vector);
 * **two-grid check** d: |q(finest) - q∞| (the force's: of the vector), how far the finest grid
   alone is from the reference;
 * **converged** if every grid's exact solve converged, u_F <= ``tol_force`` (default 0.5 % of
