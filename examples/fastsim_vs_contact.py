@@ -17,16 +17,13 @@ size (``LIMIT_GRIDS``; its 24,800 solves on 200×200 and 400×400 take most of t
 part of the theory's.
 
 Errors, in % of μN (forces) and of μN·c (Mz, c = √(ab)), against the references of the two
-reports: on the benchmark the error of |F| (``contact_core.bench.report.errors`` with
-``magnitude=True``, the metric CONTACT's results were first compared in; its reference as
-``python -m contact_core.bench --full`` computes it, with two finer grids,
-``BENCH_REFERENCE_GRIDS``, kept in ``build/bench_reference``: |(Fx, Fy)| extrapolated per
-component; the exported references of 2026-11-25 hold |F| extrapolated as such, within
-0.015 % of μN of it on the full form's grids, and their convergence flags by its uncertainty),
-on the held-out sets the vector error of (Fx, Fy) (``contact_core.table.check.errors``;
-references kept in ``build/table_check_reference`` by ``python -m contact_core.table check``;
-both are computed again when the exact solver changes). Missing references are computed (hours on two cores;
-``--workers``, ``--scheduler`` as in those commands).
+reports, the force's as the error of the vector (Fx, Fy), its magnitude and direction: on the
+benchmark ``contact_core.bench.report.errors``, its reference as ``python -m contact_core.bench
+--full`` computes it, with two finer grids, ``BENCH_REFERENCE_GRIDS``, kept in
+``build/bench_reference``; on the held-out sets ``contact_core.table.check.result_errors``,
+references kept in ``build/table_check_reference`` by ``python -m contact_core.table check``.
+Both are computed again when the exact solver changes. Missing references are computed (hours on
+two cores; ``--workers``, ``--scheduler`` as in those commands).
 
     python examples/fastsim_vs_contact.py [--options '{"scheme": "midpoint"}']
 
@@ -107,7 +104,7 @@ def cell(e: np.ndarray) -> tuple[float, float]:
 
 
 def held_series(title: str) -> tuple[str, str]:
-    """The report's two series of a held-out set: |F| and Mz."""
+    """The report's two series of a held-out set: the force (its vector error) and Mz."""
     return f"{title.lower()}, \\|F\\|", f"{title.lower()}, Mz"
 
 
@@ -130,7 +127,7 @@ def series_cells(bench, refs, bench_res: np.ndarray, held, held_refs,
     """p95 / max per series of one program's results on the benchmark (``bench_res``, its cases
     in order) and on the held-out sets (``held_res``, one array per set of ``held``)."""
     kind = np.array([c.kind for c in bench])
-    eF, eM = bench_errors(bench, refs, bench_res, magnitude=True)
+    eF, eM = bench_errors(bench, refs, bench_res)
     cells = {f"benchmark, {title}": cell(100 * eF[kind == k]) for k, title in KINDS}
     cells["benchmark, Mz (all but pure ξ)"] = cell(100 * eM)
     for (_, title, cases, _), ref, res in zip(held, held_refs, held_res):
@@ -141,10 +138,11 @@ def series_cells(bench, refs, bench_res: np.ndarray, held, held_refs,
 
 @dataclass(frozen=True)
 class StoredReference:
-    """A benchmark reference as exported (``export_references``): |F| (N), Mz (N·m), and
-    whether it converged; what the error of the magnitude needs."""
+    """A benchmark reference as exported (``export_references``): Fx, Fy (N), Mz (N·m), and
+    whether it converged; what ``contact_core.bench.report.errors`` needs."""
 
-    F: float
+    Fx: float
+    Fy: float
     Mz: float
     converged: bool
 
@@ -159,22 +157,22 @@ def read_references(path: Path, held) -> tuple[list[StoredReference], list[np.nd
         by_set.setdefault(r["set"], []).append(r)
     for sub in by_set.values():
         sub.sort(key=lambda r: int(r["id"]))
-    refs = [StoredReference(float(r["F"]), float(r["Mz"]), r["converged"] == "1")
-            for r in by_set.get("bench", [])]
+    refs = [StoredReference(float(r["Fx"]), float(r["Fy"]), float(r["Mz"]),
+                            r["converged"] == "1") for r in by_set.get("bench", [])]
     held_refs = [np.array([[float(r[q]) for q in ("Fx", "Fy", "Mz")]
                            for r in by_set.get(name, [])]) for name, *_ in held]
     return refs, held_refs
 
 
 def export_references(path: Path, refs, held, held_refs) -> None:
-    """The converged exact references of the benchmark (|F|, Mz and whether it converged,
+    """The converged exact references of the benchmark (Fx, Fy, Mz and whether it converged,
     ``contact_core.bench.reference``) and of the held-out sets (Fx, Fy, Mz) as CSV."""
     header = (
         "The converged exact theory (contact_core's exact solver, Kalker's half-space boundary "
         "elements, solved on several square grids, each alone, and fitted to q(m) = q_inf + C/m) "
         "on the states of contact_fastsim_sets.csv (same set and id). set 'bench': grids "
-        f"{', '.join(map(str, BENCH_REFERENCE_GRIDS))} (contact_core.bench.reference), "
-        "F = |(Fx, Fy)| only, converged = 0 where a solve did not converge or the fit's "
+        f"{', '.join(map(str, BENCH_REFERENCE_GRIDS))} (contact_core.bench.reference: Fx, Fy "
+        "and Mz fitted each), converged = 0 where a solve did not converge or the fit's "
         "uncertainty exceeds 0.5 % of mu N (of mu N c for Mz; such cases are left out of the "
         "statistics); the held-out sets and their second draw (sets with the suffix 2): grids "
         f"{', '.join(map(str, CHECK_GRIDS))} "
@@ -185,8 +183,8 @@ def export_references(path: Path, refs, held, held_refs) -> None:
     lines = textwrap.wrap(header, 90, initial_indent="# ", subsequent_indent="# ",
                           break_on_hyphens=False)
     lines.append("set,id,Fx,Fy,F,Mz,converged")
-    lines += [f"bench,{i},nan,nan,{r.F:.10g},{r.Mz:.10g},{int(r.converged)}"
-              for i, r in enumerate(refs)]
+    lines += [f"bench,{i},{r.Fx:.10g},{r.Fy:.10g},{math.hypot(r.Fx, r.Fy):.10g},{r.Mz:.10g},"
+              f"{int(r.converged)}" for i, r in enumerate(refs)]
     for (name, _, _, _), ref in zip(held, held_refs):
         lines += [f"{name},{i},{fx:.10g},{fy:.10g},{math.hypot(fx, fy):.10g},{mz:.10g},1"
                   for i, (fx, fy, mz) in enumerate(ref)]
@@ -254,7 +252,8 @@ def main() -> None:
              "Generated by `python examples/fastsim_vs_contact.py"
              + (f" --options '{a.options}'" if options else "")
              + (f" --references {a.references}" if a.references else "") + "` (see its docstring): "
-             "p95 / max error against the converged exact theory, |F| in % of μN, Mz in % of "
+             "p95 / max error against the converged exact theory, the force F = (Fx, Fy) by "
+             "its vector error |F − F_ref| in % of μN (\\|F\\| in the series' names), Mz in % of "
              "μN·c; the benchmark's 400 cases by series, the held-out sets of `python -m "
              "contact_core.table check` and a second draw of them (fewer states, other seeds). "
              "*ours* = `contact_core`'s FASTSIM"

@@ -33,12 +33,13 @@ for sweeps that outgrow one machine (:mod:`contact_core.sweep`). Progress is sho
 
 The grid solutions may be kept in a folder (``cache``; the command line's default is
 ``build/bench_reference``) as a numpy file (no pickle), named by a digest of the cases, the grids
-and the source of the exact solver and of what it uses: a rerun with the same cases and solver
-reuses them, any change of either computes them anew.
+and the source of the exact solver, of what it uses and of the solve task (:func:`_solve_exact`):
+a rerun with the same cases and solver reuses them, any change of either computes them anew.
 """
 from __future__ import annotations
 
 import hashlib
+import inspect
 import json
 import math
 import os
@@ -241,9 +242,11 @@ def kept_grid_solutions(kwargs: Sequence[dict[str, float]], grids: Sequence[int]
     return sols
 
 
-#: Sources the reference depends on (relative to the package): the exact solver and what it uses.
+#: Sources the reference depends on (relative to the package): the exact solver and what it
+#: uses; of this module only the solve task itself (its other text, e.g. a docstring, does not
+#: change a grid solution and does not throw the kept ones away).
 _SOURCES = ("exact", "base.py", "hertz.py", "material.py", "coefficients.py", "result.py",
-            "api.py", "bench/reference.py")
+            "api.py")
 
 
 def _cache_file(folder: Path, kwargs: list[dict[str, float]], grids: tuple[int, ...]) -> Path:
@@ -253,6 +256,7 @@ def _cache_file(folder: Path, kwargs: list[dict[str, float]], grids: tuple[int, 
         path = root / name
         for f in sorted(path.glob("*.py")) if path.is_dir() else [path]:
             code.update(f.read_bytes())
+    code.update(inspect.getsource(_solve_exact).encode())
     key = json.dumps({"grids": grids, "cases": kwargs, "code": code.hexdigest()}, sort_keys=True)
     return folder / f"reference_{hashlib.sha256(key.encode()).hexdigest()[:16]}.npz"
 

@@ -43,19 +43,18 @@ class SettingStats:
     t_fmu: tuple[float, float, float] | None
 
 
-def errors(cases: Sequence[Case], refs: Sequence[Reference], results: np.ndarray, *,
-           magnitude: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def errors(cases: Sequence[Case], refs: Sequence[Reference],
+           results: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(force error, moment error) per case of one setting's ``results`` (cases × [Fx, Fy, Mz,
-    ...]): the error of the vector F (``magnitude``: of |F| only) over μN and of Mz over μN·c;
-    NaN where the reference is not converged."""
+    ...]): the error of the vector F over μN and of Mz over μN·c; NaN where the reference is not
+    converged. ``refs``: objects with ``Fx``, ``Fy``, ``Mz`` and ``converged``."""
     eF = np.full(len(cases), np.nan)
     eM = np.full(len(cases), np.nan)
     for j, (c, r) in enumerate(zip(cases, refs)):
         if not r.converged:
             continue
         Fx, Fy, Mz = results[j, :3]
-        eF[j] = (abs(math.hypot(Fx, Fy) - r.F) if magnitude
-                 else math.hypot(Fx - r.Fx, Fy - r.Fy)) / (c.mu * c.N)
+        eF[j] = math.hypot(Fx - r.Fx, Fy - r.Fy) / (c.mu * c.N)
         if c.kind != "longitudinal":  # pure ξ: Mz = 0 by symmetry for every method
             eM[j] = abs(Mz - r.Mz) / (c.mu * c.N * c.c)
     return eF, eM
