@@ -100,8 +100,9 @@ p95 and max), nor in any of the 48 of a second draw of the held-out sets. It is 
 4 under the benchmark's (ξ, η) with the parabolic bound, by 0.43-0.84 % of μN (the blend's
 direction, above; "separate" is ahead there), and in 6 by 0.03-0.63 % on its pure ξ, η, φ and
 the elliptic bound's (ξ, η) at 48×44, where both programs are within 0.05 % of μN of simplified
-theory's own error or below it and differ only in how much of it each grid's first-order error
-cancels (the last mostly the blend's direction: "separate" is behind there by 0.13).
+theory's own error or below it: in the first five they differ only in how much of it each grid's
+first-order error cancels, in the last mostly in the blend's direction ("separate" is behind
+there by 0.13).
 
 Traction bound g = μ p_n (option ``bound``):
 
