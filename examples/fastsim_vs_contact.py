@@ -159,6 +159,9 @@ def read_references(path: Path, held) -> tuple[list[StoredReference], list[np.nd
         sub.sort(key=lambda r: int(r["id"]))
     refs = [StoredReference(float(r["Fx"]), float(r["Fy"]), float(r["Mz"]),
                             r["converged"] == "1") for r in by_set.get("bench", [])]
+    if any(r.converged and not math.isfinite(r.Fx + r.Fy) for r in refs):
+        raise SystemExit(f"{path}: the benchmark's references have no Fx, Fy (a file written "
+                         "before 2026-11-27 holds |F| only): export them again")
     held_refs = [np.array([[float(r[q]) for q in ("Fx", "Fy", "Mz")]
                            for r in by_set.get(name, [])]) for name, *_ in held]
     return refs, held_refs

@@ -262,6 +262,20 @@ def test_held_out_references_are_solved_again_when_the_exact_solver_changes(tmp_
     assert len(list(tmp_path.glob("reference_*.npz"))) == 2
 
 
+def test_kept_solutions_are_named_by_the_solve_task_and_the_file_layout(tmp_path, monkeypatch):
+    # of contact_core.bench.reference only the code that makes or reads a kept file names it:
+    # a changed solve task (or reader, writer) computes the solutions anew
+    from contact_core.bench import reference
+    kwargs, grids = [{"xi": 1e-3, "eta": 0.0}], (12, 16, 20)
+    name = reference._cache_file(tmp_path, kwargs, grids)
+    assert reference._cache_file(tmp_path, kwargs, grids) == name
+
+    def _solve_exact(kw, m):  # another solve task
+        return reference._solve_exact({**kw, "eta": 0.0}, m)
+    monkeypatch.setattr(reference, "_KEPT_CODE", (_solve_exact, *reference._KEPT_CODE[1:]))
+    assert reference._cache_file(tmp_path, kwargs, grids) != name
+
+
 def test_hard_sweep_leaves_the_dear_methods_out_with_zero_exact_cases(tmp_path, capsys):
     # ``--exact-cases 0`` runs the closed-form methods and FASTSIM only; counts below 0 (or no
     # cases) are refused by name instead of failing inside the sweep

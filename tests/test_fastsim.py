@@ -453,9 +453,7 @@ def test_with_spin_and_creepage_fastsim_is_not_behind_contacts_fastsim(bound, nx
     for name, (cases, ref, ours, theirs) in sets.items():
         ref, ours, theirs = np.array(ref), np.array(ours), np.array(theirs)
         if name == "bench":                     # the force, as the benchmark's report
-            mun = np.array([v["mu"] * v["N"] for v in cases])
-            errs.append((name, *(np.hypot(q[:, 0] - ref[:, 0], q[:, 1] - ref[:, 1]) / mun
-                                 for q in (ours, theirs))))
+            errs.append((name, *(result_errors(cases, ref, q)[0] for q in (ours, theirs))))
         else:
             (fo, mo), (fc, mc) = (result_errors(cases, ref[:, :3], q) for q in (ours, theirs))
             errs += [(f"{name} |F|", fo, fc), (f"{name} Mz", mo, mc)]

@@ -33,8 +33,9 @@ for sweeps that outgrow one machine (:mod:`contact_core.sweep`). Progress is sho
 
 The grid solutions may be kept in a folder (``cache``; the command line's default is
 ``build/bench_reference``) as a numpy file (no pickle), named by a digest of the cases, the grids
-and the source of the exact solver, of what it uses and of the solve task (:func:`_solve_exact`):
-a rerun with the same cases and solver reuses them, any change of either computes them anew.
+and the source of the exact solver, of what it uses, of the solve task (:func:`_solve_exact`)
+and of the file's reader and writer: a rerun with the same cases and solver reuses them, any
+change of either computes them anew.
 """
 from __future__ import annotations
 
@@ -243,8 +244,9 @@ def kept_grid_solutions(kwargs: Sequence[dict[str, float]], grids: Sequence[int]
 
 
 #: Sources the reference depends on (relative to the package): the exact solver and what it
-#: uses; of this module only the solve task itself (its other text, e.g. a docstring, does not
-#: change a grid solution and does not throw the kept ones away).
+#: uses; of this module only the solve task and the kept file's layout (``_KEPT_CODE``: its
+#: other text, e.g. a docstring, does not change a grid solution and does not throw the kept
+#: ones away).
 _SOURCES = ("exact", "base.py", "hertz.py", "material.py", "coefficients.py", "result.py",
             "api.py")
 
@@ -256,7 +258,8 @@ def _cache_file(folder: Path, kwargs: list[dict[str, float]], grids: tuple[int, 
         path = root / name
         for f in sorted(path.glob("*.py")) if path.is_dir() else [path]:
             code.update(f.read_bytes())
-    code.update(inspect.getsource(_solve_exact).encode())
+    for fn in _KEPT_CODE:
+        code.update(inspect.getsource(fn).encode())
     key = json.dumps({"grids": grids, "cases": kwargs, "code": code.hexdigest()}, sort_keys=True)
     return folder / f"reference_{hashlib.sha256(key.encode()).hexdigest()[:16]}.npz"
 
@@ -280,6 +283,9 @@ def _save_solutions(path: Path, sols: list[dict[int, tuple]], grids: tuple[int, 
     tmp = path.with_name(path.stem + ".part.npz")
     np.savez(tmp, solutions=arr)
     os.replace(tmp, path)
+
+
+_KEPT_CODE = (_solve_exact, _load_solutions, _save_solutions)
 
 
 def convergence_by_ratio(cases: Sequence[Case], refs: Sequence[Reference]) -> list[dict[str, Any]]:
