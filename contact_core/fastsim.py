@@ -99,10 +99,10 @@ the benchmark's 400 cases and the three held-out sets of ``python -m contact_cor
 p95 and max), nor in any of the 48 of a second draw of the held-out sets. It is behind in 10: in
 4 under the benchmark's (ξ, η) with the parabolic bound, by 0.43-0.84 % of μN (the blend's
 direction, above; "separate" is ahead there), and in 6 by 0.03-0.63 % on its pure ξ, η, φ and
-the elliptic bound's (ξ, η) maximum at 48×44, where both programs are within 0.05 % of μN of simplified
-theory's own error or below it: in the first five they differ only in how much of it each grid's
-first-order error cancels, in the last mostly in the blend's direction ("separate" is behind
-there by 0.13).
+the elliptic bound's (ξ, η) maximum at 48×44, where both programs are within 0.05 % of μN of
+simplified theory's own error or below it: in the first five they differ only in how much of it
+each grid's first-order error cancels, in the last mostly in the blend's direction ("separate" is
+behind there by 0.13).
 
 Traction bound g = μ p_n (option ``bound``):
 
