@@ -67,10 +67,19 @@ Option ``flexibility``:
     (ξ_c, η_c: where linear theory reaches μN; the weights and the factor 3 as in CONTACT's
     ``simpflex``). Pure ξ, η or φ are as with "separate" (L_c = L1 or L2; w = 0 without ξ, η), and
     so is the linear range (w -> 0); without the saturation effect nothing slides and neither
-    blend applies. The slip law stays this module's (above), not CONTACT's radial projection: on
-    the benchmark's states with spin and creepage where the blend moves CONTACT's own FASTSIM by
-    3-24 % of μN, this option is within 0.9 % of μN of it (48×44, tests); under (ξ, η) alone, where
-    the two slip laws differ, within 3.2 %.
+    blend applies. The slip law of both blends is that of "separate" with one flexibility for the
+    creepage's part, L_c of (ξ, η) alone, (ξ² + η²)/(ξ²/L1 + η²/L2) of the blended L1, L2, in both
+    directions (the spin's part L3, by the shares as above): the bed the blend moves towards, so
+    under (ξ, η) the slip zone's traction is the stick predictor scaled radially onto the bound,
+    as in CONTACT's FASTSIM, and once w = 1, in full sliding, opposite to the creepage. Against the
+    converged exact theory this turns the force under (ξ, η) towards the exact direction: on the
+    benchmark's 80 such cases (parabolic 20×20) within p95 / max 0.53 / 0.75° of it, where the
+    anisotropic slip law of "separate" with the blended flexibilities turned it 1.27 / 1.79° past
+    (measured 2026-11-27; "separate" 0.29 / 0.56°, CONTACT's FASTSIM 0.53 / 0.76°), and
+    simplified theory's own error there (zero element size) is 3.96 / 4.68 % of μN instead of
+    4.56 / 5.29 (docs/fastsim.md). With this slip law this option is within 0.6 % of μN of
+    CONTACT's own FASTSIM on the benchmark's states with spin and creepage where the blend moves
+    CONTACT's by 3-24 % of μN (48×44, tests), and within 0.5 % under (ξ, η) alone.
 ``"blended"`` (default) — the same blend with w scaled by a power of the creepage's share of
     the linear force, w -> w (F_c / (F_c + F_φ))^p, F_c = |(C11 ξ, C22 η)|, F_φ = C23 c |φ| (this
     package's): Vollebregt and Voltr's weight grows with (ξ, η) alone, so a large spin beside a
@@ -84,25 +93,23 @@ Option ``flexibility``:
     ellipse; only -φy contributes), an effective C33 = 32 C23 (b/a)^{3/2} / (15π), 0.88 C33 at
     a/b = 1, 0.56 at 5, 0.45 at 10 (ν = 0.28); Kalker's rule for the flexibilities (1979, sec. 5:
     each fitted to a coefficient of linear theory) gives that term its own L4 = 8b/(15 G C33).
-    Under (ξ, η) without spin both blends keep the magnitude of "separate" but turn the force
-    up to 1.8° past the exact theory's direction towards the slip's near saturation ("separate":
-    within 0.1°; benchmark, parabolic 20×20, vector error p95 / max 2.6 / 3.1 % of μN against
-    1.5 / 1.9, measured 2026-11-27; docs/fastsim.md): with spin that turn is what the blend gains.
+    Under (ξ, η) without spin both blends are within 0.13 % of μN of "separate" in the vector
+    error's p95 and max (benchmark, both bounds, 20×20 and 48×44; parabolic 20×20 1.54 / 1.92
+    against 1.52 / 1.89 % of μN, measured 2026-11-27); with spin the blend is what they gain.
 
 How the exponents p and q, the scheme and the bound's default were chosen, against the
 converged exact theory and against CONTACT's own FASTSIM (M=3, built from its source,
 eve70a/CONTACT d431cdb; its results are data in the tests), and the variants tried and not kept,
 are in docs/fastsim.md; ``python examples/fastsim_vs_contact.py`` regenerates the comparison
 (docs/fastsim_vs_contact.md). In short (the force by its vector error): with the default options
-this module is not behind CONTACT's FASTSIM in 86 of the 96 figures (20×20 and 48×44, both bounds,
+this module is not behind CONTACT's FASTSIM in 90 of the 96 figures (20×20 and 48×44, both bounds,
 the benchmark's 400 cases and the three held-out sets of ``python -m contact_core.table check``,
-p95 and max), nor in any of the 48 of a second draw of the held-out sets. It is behind in 10: in
-4 under the benchmark's (ξ, η) with the parabolic bound, by 0.43-0.84 % of μN (the blend's
-direction, above; "separate" is ahead there), and in 6 by 0.03-0.63 % on its pure ξ, η, φ and
-the elliptic bound's (ξ, η) maximum at 48×44, where both programs are within 0.05 % of μN of
-simplified theory's own error or below it: in the first five they differ only in how much of it
-each grid's first-order error cancels, in the last mostly in the blend's direction ("separate" is
-behind there by 0.13).
+p95 and max), nor in any of the 48 of a second draw of the held-out sets. It is behind in 6, by
+0.03-0.24 % of μN, on the benchmark's pure ξ, η, φ (where neither the blend nor the slip law
+acts) and the elliptic bound's (ξ, η) maximum at 48×44 (where "separate" is behind by the same
+0.13): the two programs differ there in the grid layout (strips here, a rectangle there), and
+both are within 0.05 % of μN of simplified theory's own error or below it, each grid's
+first-order error cancelling part of it.
 
 Traction bound g = μ p_n (option ``bound``):
 
@@ -366,11 +373,18 @@ def _flexibilities(a: float, b: float, G: float, mu: float, N: float, xi: float,
         l2 += w * (l_one - l2)
         l3 += w * (l_one - l3)
         l3x += w * (l_one - l3x)
-    # the slip law's flexibilities along x and y (as weights in [0, 1]: no underflow to a zero
-    # flexibility for denormal inputs)
+    # the slip law's flexibilities along x and y: the creepage's part L1, L2, with the blends
+    # one for both, Vollebregt & Voltr's L_c of (ξ, η) alone (module docstring); the spin's L3
+    # by the shares (as weights in [0, 1]: no underflow to a zero flexibility for denormal
+    # inputs; the creepages scaled by the larger)
+    lcx, lcy = l1, l2
+    if (mode == _BLENDED or mode == _BLENDED_CONTACT) and (xi != 0.0 or eta != 0.0):
+        m = max(abs(xi), abs(eta))
+        wx, wy = (xi / m) ** 2, (eta / m) ** 2
+        lcx = lcy = (wx + wy) / (wx / l1 + wy / l2)
     ax, ay = abs(xi) + cphi, abs(eta) + cphi
-    lx = l1 + (l3 - l1) * (cphi / ax) if ax > 0.0 else l1
-    ly = l2 + (l3 - l2) * (cphi / ay) if ay > 0.0 else l2
+    lx = lcx + (l3 - lcx) * (cphi / ax) if ax > 0.0 else lcx
+    ly = lcy + (l3 - lcy) * (cphi / ay) if ay > 0.0 else lcy
     return 1.0 / l1, 1.0 / l2, 1.0 / l3, 1.0 / l3x, ly / lx
 
 
