@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -184,12 +185,19 @@ def test_pythonfmu_binary_fallback(tmp_path):
         "print(json.dumps([float(r['Fx'][-1]), refused, bad.errors()]))\n")
     run = subprocess.run([sys.executable, "-c", code, str(fmu)], capture_output=True, text=True,
                          cwd=tmp_path)
-    # the host's own output says why, should it ever die (once SIGABRT in a CI run, 2026-11-27;
-    # not reproduced in 100 runs alone and under load)
-    assert run.returncode == 0, (run.returncode, run.stderr[-3000:])
+    assert run.stdout, (run.returncode, run.stderr[-3000:])
     fx, refused, errors = json.loads(run.stdout.splitlines()[-1])
     assert fx == solve("johnson_vermeulen", "traction", xi=1e-3).Fx
     assert refused and any("E=-1.0 is out of range" in m for m in errors)
+    # pythonfmu 0.7's binary corrupts the heap of a Python host now and then, found at exit (an
+    # exit handler aborts with "corrupted double-linked list": 9 of 520 fmpy hosts of this
+    # FMU, two at a time, 2026-11-27; with this package's own wrapper 0 of 240; upstream:
+    # NTNU-IHB/PythonFMU issues 228 and 229, the binary's exit-time finalizePythonInterpreter
+    # reading freed memory): the README says so. Known and not this package's to fix, it is
+    # reported as an expected failure; any other way of dying fails.
+    if run.returncode == -signal.SIGABRT and "corrupted" in run.stderr:
+        pytest.xfail("pythonfmu 0.7's binary: heap corrupted, found at the host's exit")
+    assert run.returncode == 0, (run.returncode, run.stderr[-3000:])
 
 
 def test_simulate_in_a_thread_pool_host(fmus):
