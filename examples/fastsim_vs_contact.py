@@ -7,14 +7,15 @@ grids; provenance in the file's header). They cover the benchmark's 400 cases
 ``python -m contact_core.table check`` (2,000 random states, 2,000 in the hard region near full
 sliding, 300 in the spin band) and a second draw of them (``check.second_draw``: 600, 600 and 300
 states, other seeds; set names with the suffix "2"), on which choices made on the first draw are
-checked. This script solves the same states with ``contact_core``'s
-FASTSIM on the same number of elements (``nx`` × ``ny`` = CONTACT's MX × MY; strips here, a
-rectangle over the ellipse's bounding box there) and writes p95 / max of both errors per series,
-bound and grid to ``docs/fastsim_vs_contact.md``, counting the figures behind CONTACT's per draw,
-and the same figures for simplified theory itself: FASTSIM with the same options at zero element
-size (``LIMIT_GRIDS``; its 24,800 solves on 200×200 and 400×400 take most of the script's
-3-4 minutes). A figure of either program below that limit is first-order grid error cancelling
-part of the theory's.
+checked. This script solves the same states with ``contact_core``'s FASTSIM on the same number
+of elements (``nx`` × ``ny`` = CONTACT's MX × MY; strips here, a rectangle over the ellipse's
+bounding box there) and writes p95 / max of both errors per series, bound and grid to
+``docs/fastsim_vs_contact.md``, counting the figures behind CONTACT's per draw; every series
+over a range of grids (n × n, n = 14 .. 56; CONTACT's results on them in
+``tests/data/contact_fastsim_grid_scan.csv.gz``); and the same figures for simplified theory
+itself: FASTSIM with the same options at zero element size (``LIMIT_GRIDS``; its 24,800 solves
+on 200×200 and 400×400 take most of the script's 5 minutes). A figure of either program below
+that limit is first-order grid error cancelling part of the theory's.
 
 Errors, in % of μN (forces) and of μN·c (Mz, c = √(ab)), against the references of the two
 reports, the force's as the error of the vector (Fx, Fy), its magnitude and direction: on the
@@ -30,7 +31,7 @@ two cores; ``--workers``, ``--scheduler`` as in those commands).
 ``--export-references FILE`` writes the references it used as data (CSV, provenance in its
 header): ``tests/data/exact_references_fastsim_sets.csv``, which the tests compare both FASTSIMs
 against without the hours of exact solves. ``--references FILE`` reads them from such a file
-instead of solving (a fresh clone: about 4 minutes, most of it simplified theory's limit):
+instead of solving (a fresh clone: about 5 minutes, most of it simplified theory's limit):
 
     python examples/fastsim_vs_contact.py --references tests/data/exact_references_fastsim_sets.csv
 """
@@ -38,6 +39,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import gzip
 import json
 import math
 import os
@@ -55,6 +57,8 @@ from contact_core.table.check import (GRIDS as CHECK_GRIDS, KEPT, held_out_sets,
                                       result_errors, second_draw)
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "contact_fastsim_sets.csv"
+#: CONTACT's FASTSIM on the same states on further grids (n × n, n = 14 .. 56)
+SCAN_DATA = DATA.with_name("contact_fastsim_grid_scan.csv.gz")
 INPUTS = ("a", "b", "G", "nu", "mu", "N", "xi", "eta", "phi")
 GRIDS = ((20, 20), (48, 44))
 #: simplified theory's own error: the same options, "midpoint", on n×n and 2n×2n, extrapolated
@@ -74,19 +78,46 @@ KINDS = (("longitudinal", "pure ξ"), ("lateral", "pure η"), ("creepage", "ξ a
          ("spin", "pure φ"), ("combined", "spin with creepage"))
 
 
+def _rows(path: Path) -> list[dict[str, str]]:
+    """The rows of a CSV file (gzip-compressed if its name ends in .gz), without "#" lines."""
+    with (gzip.open(path, "rt", encoding="utf-8") if path.suffix == ".gz"
+          else path.open(encoding="utf-8")) as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
+def _forces(rows: list[dict[str, str]], keys) -> dict[str, np.ndarray]:
+    """(Fx, Fy, Mz) of ``rows`` (in order) per key "<bound>_<mx>x<my>" of ``keys``."""
+    return {key: np.array([[float(r[f"{key}_{q}"]) for q in ("Fx", "Fy", "Mz")] for r in rows])
+            for key in keys}
+
+
 def read_contact() -> dict[str, tuple[list[dict[str, float]], dict[str, np.ndarray]]]:
-    """Per set: the inputs of each case and CONTACT's (Fx, Fy, Mz) per "<bound>_<mx>x<my>"."""
-    with DATA.open(encoding="utf-8") as f:
-        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
-    out: dict[str, tuple[list[dict[str, float]], dict[str, np.ndarray]]] = {}
+    """Per set: the inputs of each case and CONTACT's (Fx, Fy, Mz) (N, N·m) per
+    "<bound>_<mx>x<my>", on ``GRIDS`` (``DATA``) and on the grids of the scan (``SCAN_DATA``, the
+    grids its columns name; stored as fractions of μN and μN·c)."""
+    rows, scan = _rows(DATA), _rows(SCAN_DATA)
+    keys = [f"{b}_{mx}x{my}" for mx, my in GRIDS for b in BOUNDS]
+    scan_keys = [c[:-3] for c in scan[0] if c.endswith("_Fx")]
+    out = {}
     for name in dict.fromkeys(r["set"] for r in rows):
-        sub = sorted((r for r in rows if r["set"] == name), key=lambda r: int(r["id"]))
+        sub, sub_scan = ([r for r in rs if r["set"] == name] for rs in (rows, scan))
+        sub.sort(key=lambda r: int(r["id"]))
+        sub_scan.sort(key=lambda r: int(r["id"]))
+        if [r["id"] for r in sub_scan] != [r["id"] for r in sub]:
+            raise SystemExit(f"set {name!r}: {SCAN_DATA.name} does not hold the states of "
+                             f"{DATA.name}")
         inputs = [{k: float(r[k]) for k in INPUTS} for r in sub]
-        res = {f"{b}_{mx}x{my}": np.array([[float(r[f"{b}_{mx}x{my}_{q}"]) for q in
-                                            ("Fx", "Fy", "Mz")] for r in sub])
-               for mx, my in GRIDS for b in BOUNDS}
-        out[name] = (inputs, res)
+        mu_n = np.array([v["mu"] * v["N"] for v in inputs])
+        unit = np.column_stack([mu_n, mu_n, mu_n * np.sqrt([v["a"] * v["b"] for v in inputs])])
+        out[name] = (inputs, {**_forces(sub, keys),
+                              **{k: f * unit for k, f in _forces(sub_scan, scan_keys).items()}})
     return out
+
+
+def grid_of(key: str) -> tuple[int, int]:
+    """(mx, my) of a key "<bound>_<mx>x<my>"."""
+    mx, my = key.rsplit("_", 1)[1].split("x")
+    return int(mx), int(my)
 
 
 def same_states(name: str, stored: list[dict[str, float]], cases: list[dict[str, float]]) -> None:
@@ -101,6 +132,19 @@ def same_states(name: str, stored: list[dict[str, float]], cases: list[dict[str,
 def cell(e: np.ndarray) -> tuple[float, float]:
     e = e[np.isfinite(e)]
     return float(np.percentile(e, 95)), float(e.max())
+
+
+def marked(ours: tuple[float, float], theirs: tuple[float, float]
+           ) -> tuple[str, list[tuple[str, float]]]:
+    """Our "p95 / max", a figure behind CONTACT's (by more than the rounding) in bold, and the
+    figures behind as (statistic, gap)."""
+    marks, behind = [], []
+    for j, what in enumerate(("p95", "max")):
+        worse = ours[j] > theirs[j] + 0.005
+        marks.append(f"**{ours[j]:.2f}**" if worse else f"{ours[j]:.2f}")
+        if worse:
+            behind.append((what, ours[j] - theirs[j]))
+    return " / ".join(marks), behind
 
 
 def held_series(title: str) -> tuple[str, str]:
@@ -122,14 +166,21 @@ def grid_limit(states: list[dict[str, float]], bound: str, options: dict) -> np.
     return r2 + (r2 - r) * n / (n2 - n)
 
 
+def bench_cells(bench, refs, res: np.ndarray) -> dict[str, tuple[float, float]]:
+    """p95 / max per series of one program's results ``res`` on the benchmark (its cases in
+    order)."""
+    kind = np.array([c.kind for c in bench])
+    eF, eM = bench_errors(bench, refs, res)
+    cells = {f"benchmark, {title}": cell(100 * eF[kind == k]) for k, title in KINDS}
+    cells["benchmark, Mz (all but pure ξ)"] = cell(100 * eM)
+    return cells
+
+
 def series_cells(bench, refs, bench_res: np.ndarray, held, held_refs,
                  held_res: list[np.ndarray]) -> dict[str, tuple[float, float]]:
     """p95 / max per series of one program's results on the benchmark (``bench_res``, its cases
     in order) and on the held-out sets (``held_res``, one array per set of ``held``)."""
-    kind = np.array([c.kind for c in bench])
-    eF, eM = bench_errors(bench, refs, bench_res)
-    cells = {f"benchmark, {title}": cell(100 * eF[kind == k]) for k, title in KINDS}
-    cells["benchmark, Mz (all but pure ξ)"] = cell(100 * eM)
+    cells = bench_cells(bench, refs, bench_res)
     for (_, title, cases, _), ref, res in zip(held, held_refs, held_res):
         f_key, m_key = held_series(title)
         cells[f_key], cells[m_key] = (cell(e) for e in result_errors(cases, ref, res))
@@ -194,6 +245,58 @@ def export_references(path: Path, refs, held, held_refs) -> None:
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+def grid_range_section(per_grid: dict[tuple[int, int, str], dict[str, tuple]]) -> list[str]:
+    """The report's section on every grid of ``per_grid`` ((mx, my, bound): {series: (ours
+    (p95, max), CONTACT's (p95, max))}): the benchmark's figures in a table per bound, and per
+    series the figures of ours behind CONTACT's."""
+    grids = list(dict.fromkeys((mx, my) for mx, my, _ in per_grid))
+    series = list(next(iter(per_grid.values())))
+    bench_series = [s for s in series if s.startswith("benchmark, ")]
+    # per (bound, series): the figures of ours behind CONTACT's, as text
+    behind: dict[tuple[str, str], list[str]] = {}
+    cells: dict[tuple[int, int, str, str], str] = {}
+    for (mx, my, bound), figures in per_grid.items():
+        for s, (o, c) in figures.items():
+            text, gaps = marked(o, c)
+            cells[(mx, my, bound, s)] = f"{text} ({c[0]:.2f} / {c[1]:.2f})"
+            behind.setdefault((bound, s), []).extend(f"{what} at {mx} × {my} by {d:.2f}"
+                                                     for what, d in gaps)
+    n_fig = 2 * len(grids)
+    lines = ["## Over a range of grids", "",
+             f"Every series on {len(grids)} grids, "
+             + ", ".join(f"{mx} × {my}" for mx, my in grids) + " (CONTACT's results: "
+             f"`tests/data/{SCAN_DATA.name}` and the grids above). Both programs converge to "
+             "simplified theory (its own error: the next section); on each grid their "
+             "first-order errors cancel different parts of it.", "",
+             "The benchmark: p95 / max of ours, CONTACT's in brackets, a figure of ours in bold "
+             "behind CONTACT's.", ""]
+    names = [s.removeprefix("benchmark, ") for s in bench_series]
+    for bound in BOUNDS:
+        lines += [f"### The benchmark, {bound} bound", "",
+                  "| grid | " + " | ".join(names) + " |", "|---|" + "---:|" * len(names)]
+        lines += [f"| {mx} × {my} | " + " | ".join(cells[(mx, my, bound, s)]
+                                                  for s in bench_series) + " |"
+                  for mx, my in grids]
+        lines.append("")
+    lines += ["### Figures of ours behind CONTACT's", "",
+              f"Per series and bound, of its {n_fig} (p95 and max on each grid):", "",
+              "| series | " + " | ".join(BOUNDS) + " |", "|---" * (1 + len(BOUNDS)) + "|"]
+    for s in series:
+        lines.append(f"| {s} | " + " | ".join(
+            f"{len(behind[(b, s)])}" + (f": {', '.join(behind[(b, s)])}" if behind[(b, s)]
+                                        else "") for b in BOUNDS) + " |")
+    lines.append("")
+    for bound in BOUNDS:
+        for what, group in (("the benchmark", bench_series),
+                            ("the held-out sets (both draws)",
+                             [s for s in series if s not in bench_series])):
+            total = sum(len(behind[(bound, s)]) for s in group)
+            lines.append(f"{bound.capitalize()} bound, {what}: ours behind CONTACT in {total} "
+                         f"of {n_fig * len(group)} figures.")
+        lines.append("")
+    return lines
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--options", default="{}", help="FASTSIM options as JSON (default: none, the "
@@ -231,9 +334,11 @@ def main() -> None:
     if a.export_references:
         export_references(Path(a.export_references), refs, held, held_refs)
 
-    # per (mx, my, bound): {series: (ours (p95, max), CONTACT's (p95, max))}
+    # per (mx, my, bound): {series: (ours (p95, max), CONTACT's (p95, max))}, on every grid of
+    # CONTACT's results, by number of elements
     per_grid: dict[tuple[int, int, str], dict[str, tuple]] = {}
-    for mx, my in GRIDS:
+    for mx, my in sorted({grid_of(k) for k in contact["bench"][1]},
+                         key=lambda g: (g[0] * g[1], g)):
         for bound in BOUNDS:
             key = f"{bound}_{mx}x{my}"
             opts = dict(nx=mx, ny=my, bound=bound, **options)
@@ -271,13 +376,9 @@ def main() -> None:
             row = [s]
             for bound in BOUNDS:
                 o, c = per_grid[(mx, my, bound)][s]
-                marks = []
-                for j, what in enumerate(("p95", "max")):
-                    worse = o[j] > c[j] + 0.005
-                    marks.append(f"**{o[j]:.2f}**" if worse else f"{o[j]:.2f}")
-                    if worse:
-                        behind.append((o[j] - c[j], f"{mx}×{my} {bound}, {s} {what}", s))
-                row += [" / ".join(marks), f"{c[0]:.2f} / {c[1]:.2f}"]
+                text, gaps = marked(o, c)
+                behind += [(d, f"{mx}×{my} {bound}, {s} {what}", s) for what, d in gaps]
+                row += [text, f"{c[0]:.2f} / {c[1]:.2f}"]
             lines.append("| " + " | ".join(row) + " |")
         lines.append("")
     for in_second, what in ((False, "the benchmark and the held-out sets"),
@@ -289,6 +390,7 @@ def main() -> None:
                      + (": " + "; ".join(f"{w} by {d:.2f}" for d, w in gaps) if gaps else "")
                      + ".")
         lines.append("")
+    lines += grid_range_section(per_grid)
     n, n2 = LIMIT_GRIDS
     lines += ["## Simplified theory's own error", "",
               "The same states and options, FASTSIM at zero element size (`scheme=\"midpoint\"` "
