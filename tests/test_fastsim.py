@@ -378,7 +378,8 @@ def _contact_scan_rows() -> list[dict[str, str]]:
 
 
 def _contact_result(row: dict[str, str], key: str) -> list[float]:
-    # CONTACT's (Fx, Fy, Mz) in a row of either file, for ``key`` = "{bound}_{nx}x{ny}"
+    # CONTACT's (Fx, Fy, Mz) in a row of either file, as it stores them, for ``key`` =
+    # "{bound}_{nx}x{ny}"
     return [float(row[f"{key}_{q}"]) for q in ("Fx", "Fy", "Mz")]
 
 
