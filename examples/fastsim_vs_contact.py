@@ -201,10 +201,8 @@ class StoredReference:
 def read_references(path: Path, held) -> tuple[list[StoredReference], list[np.ndarray]]:
     """The benchmark's references and the held-out sets' (Fx, Fy, Mz) from a file written by
     ``export_references``, per set in the order of ``held``."""
-    with path.open(encoding="utf-8") as f:
-        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     by_set: dict[str, list[dict[str, str]]] = {}
-    for r in rows:
+    for r in _rows(path):
         by_set.setdefault(r["set"], []).append(r)
     for sub in by_set.values():
         sub.sort(key=lambda r: int(r["id"]))

@@ -361,20 +361,26 @@ def test_per_creepage_flexibilities_reproduce_linear_theory_for_combined_creepag
 _INPUTS = ("a", "b", "G", "nu", "mu", "N", "xi", "eta", "phi")
 
 
+def _data_rows(name: str) -> list[dict[str, str]]:
+    # the rows of a CSV file in tests/data (gzip-compressed if its name ends in .gz), without
+    # its "#" header lines
+    path = REFERENCE_DIR / name
+    with (gzip.open(path, "rt", encoding="utf-8", newline="") if path.suffix == ".gz"
+          else path.open(encoding="utf-8", newline="")) as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
 def _contact_fastsim_rows() -> list[dict[str, str]]:
     # CONTACT's own FASTSIM (M=3) on the benchmark's and check's states and a second draw of
     # check's (provenance: the file's header and tests/data/README_reference.md)
-    with open(REFERENCE_DIR / "contact_fastsim_sets.csv", newline="") as f:
-        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+    return _data_rows("contact_fastsim_sets.csv")
 
 
 def _contact_scan_rows() -> list[dict[str, str]]:
     # CONTACT's own FASTSIM (M=3) on the same states (set, id) over further grids, 14×14 ..
     # 56×56, as fractions of μN and μN·c (provenance: the file's header and
     # tests/data/README_reference.md)
-    with gzip.open(REFERENCE_DIR / "contact_fastsim_grid_scan.csv.gz", "rt", encoding="utf-8",
-                   newline="") as f:
-        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+    return _data_rows("contact_fastsim_grid_scan.csv.gz")
 
 
 def _contact_result(row: dict[str, str], key: str) -> list[float]:
@@ -432,10 +438,8 @@ def test_blended_contact_reproduces_contacts_fastsim_where_the_blend_matters():
 
 def _exact_references() -> dict[tuple[str, int], dict[str, float]]:
     # the converged exact theory on the same states (provenance: the file's header)
-    with open(REFERENCE_DIR / "exact_references_fastsim_sets.csv", newline="") as f:
-        return {(r["set"], int(r["id"])): {k: float(r[k])
-                                           for k in ("Fx", "Fy", "Mz", "converged")}
-                for r in csv.DictReader(line for line in f if not line.startswith("#"))}
+    return {(r["set"], int(r["id"])): {k: float(r[k]) for k in ("Fx", "Fy", "Mz", "converged")}
+            for r in _data_rows("exact_references_fastsim_sets.csv")}
 
 
 @pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
