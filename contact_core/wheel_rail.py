@@ -173,3 +173,36 @@ class WheelRailEvaluator:
             self.method_code = self._code
             return self._lifted
         raise out_of_range("N", N)
+
+    def check_outputs(self, N: float, mu: float, Fx: float, Fy: float, a: float, b: float,
+                      p0: float, slip_fraction: float) -> None:
+        """Raise ``ValueError`` naming the first output that :meth:`evaluate` cannot have given
+        at load ``N`` (N) and friction ``mu``: for outputs that come back from outside (a saved
+        FMU state), which are untrusted.
+
+        The patch ``a``, ``b`` (m) and ``p0`` (Pa) must be Hertz's for ``N``, and zero with
+        zero forces when ``N <= 0`` (wheel lifted). ``slip_fraction`` must be in [0, 1], and
+        for a saturating method the force must satisfy |(Fx, Fy)| <= μN (Coulomb's law, Kalker
+        1979 eq 5, which every method's step keeps). The moment is not checked, because a
+        discretised method's grid pressure may exceed the continuum's bound on it.
+        """
+        if not (-_INF < N < _INF):
+            raise out_of_range("N", N)
+        patch = self.geometry.patch(N) if N > 0.0 else LIFTED_PATCH
+        for name, value, expected in (("a", a, patch.a), ("b", b, patch.b),
+                                      ("p0", p0, patch.p0)):
+            if not math.isclose(value, expected, rel_tol=1e-12):
+                raise ValueError(f"{name}={value!r} is not the Hertz patch of N={N!r}: "
+                                 f"allowed {name}={expected!r}")
+        if not 0.0 <= slip_fraction <= 1.0:
+            raise ValueError(f"slip_fraction={slip_fraction!r} is out of range: allowed "
+                             "0 <= slip_fraction <= 1")
+        force = math.hypot(Fx, Fy)
+        if N <= 0.0:
+            if force != 0.0:
+                raise ValueError(f"Fx={Fx!r}, Fy={Fy!r} with N={N!r}: allowed zero forces for "
+                                 "a lifted wheel (N <= 0)")
+        elif (self.config.effects.saturation and self.solver.saturates
+              and not force <= mu * N):
+            raise ValueError(f"Fx={Fx!r}, Fy={Fy!r}: |(Fx, Fy)| = {force!r} N is out of range: "
+                             f"allowed at most mu*N = {mu * N!r} N (mu={mu!r}, N={N!r})")

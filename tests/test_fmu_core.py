@@ -39,6 +39,20 @@ def test_evaluator_equals_solve_chain(method):
         assert ev.method_code == cc.METHODS[method].code
 
 
+@pytest.mark.parametrize("method", cc.methods())
+def test_outputs_pass_their_own_check(method):
+    # check_outputs (for outputs read back from a saved FMU state) accepts what evaluate gives:
+    # full sliding on Coulomb's bound, linear theory far beyond it, a lifted wheel
+    ev = cc.WheelRailEvaluator(cc.WheelRailConfig(method=method, E=E, nu=NU, **GEOM,
+                                                  options=options_for(method)))
+    sliding = (0.05, -0.03, 2.0, 1e5, 0.3)
+    for xi, eta, phi, N, mu in STEPS + [sliding, (1e-3, 0.0, 0.0, -1.0, 0.3)]:
+        r = ev.evaluate(xi, eta, phi, N, mu)
+        ev.check_outputs(N, mu, r.Fx, r.Fy, ev.a, ev.b, ev.p0, r.slip_fraction)
+        if (xi, eta, phi, N, mu) == sliding:
+            assert (math.hypot(r.Fx, r.Fy) > mu * N) == (method == "linear")
+
+
 @pytest.mark.parametrize("N", [0.0, -0.0, -1e3])
 def test_lifted_wheel(N):
     ev = cc.WheelRailEvaluator(cc.WheelRailConfig(method="johnson_vermeulen"))

@@ -178,6 +178,15 @@ def _crafted(blob: bytes, tmp_path) -> dict[str, bytes]:
         "huge integer result": edit(result={**header["result"], "Fx": 10 ** 400}),
         "huge integer warm state": edit(result={**header["result"], "warm_state": {
             **header["result"]["warm_state"], "a_over_b": 10 ** 400}}),
+        # outputs the next read would return as they are (fresh): Coulomb's bound and Hertz
+        "force beyond mu N": edit(values={**values, "Fy": 1.01 * values["mu"] * values["N"]}),
+        "patch not the load's": edit(values={**values, "a": 1.001 * values["a"]}),
+        "outputs of another load": edit(values={**values, "N": 0.9 * values["N"]}),
+        "lifted wheel with a patch": edit(values={**values, "N": -1.0}),
+        "lifted wheel with a force": edit(values={**values, "N": -1.0, "a": 0.0, "b": 0.0,
+                                                  "p0": 0.0}),
+        "slip fraction above one": edit(values={**values, "slip_fraction": 1.5}),
+        "outputs before initialization": edit(mode="instantiated"),
     }
 
 
@@ -203,6 +212,24 @@ def test_crafted_and_corrupted_states_are_errors(fmus, tmp_path, monkeypatch):
         a.fmu.setFMUstate(a.fmu.deSerializeFMUstate(good))
         assert run(a, INPUTS[2:3]) == reference
         assert a.counts[4] == 0  # never fatal
+
+
+def test_state_saved_in_initialization_mode_computes_its_outputs_again(fmus):
+    # outputs read in Initialization Mode are computed when read (initial="calculated"), so a
+    # restored state of that mode computes them again, from its parameters and inputs
+    with FmuInstance(fmus["full"], "a", initialize=False) as a:
+        a.fmu.setupExperiment(startTime=0.0)
+        a.fmu.enterInitializationMode()
+        a.set(**INPUTS[0])
+        first = a.get(*OUT)
+        blob = a.fmu.serializeFMUstate(a.fmu.getFMUstate())
+        a.set(**INPUTS[1])
+        assert a.get(*OUT) != first
+        a.fmu.setFMUstate(a.fmu.deSerializeFMUstate(blob))
+        assert a.get(*OUT) == first
+        a.fmu.exitInitializationMode()
+        a.initialized = True
+        assert a.errors() == []
 
 
 def test_state_of_another_fmu_is_refused(fmus):

@@ -16,8 +16,9 @@ its status:
 * invalid parameter: ``fmi2ExitInitializationMode`` returns ``fmi2Error`` with the parameter and
   its allowed range; the parameters may be corrected and the call repeated;
 * a fixed parameter or an output set when it may not be, an unknown value reference, a call in
-  the wrong mode, a step size that is not > 0, a foreign or corrupted FMU state: ``fmi2Error``,
-  nothing changed;
+  the wrong mode, a step size that is not > 0, a foreign, corrupted or crafted FMU state
+  (outputs that are not the law's: :meth:`contact_core.WheelRailEvaluator.check_outputs`):
+  ``fmi2Error``, nothing changed;
 * a call that logged a warning (a step that did not converge, the table's handover, the core's
   Python warnings, which go to the logger and never to the host's warning filters):
   ``fmi2Warning`` (the wrapper returns it for any call that logged one);
@@ -54,6 +55,11 @@ class FmiStatusError(Exception):
     def __init__(self, message: str, status: int = Fmi2Status.error) -> None:
         super().__init__(message)
         self.fmi_status = int(status)
+
+
+def _initial(spec: VarSpec) -> Any:
+    """A variable's value at instantiation: its start value, or zero (outputs)."""
+    return spec.start if spec.start is not None else _ZERO[spec.type]
 
 
 class WheelRailContact(pythonfmu.Fmi2Slave):
@@ -100,7 +106,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         for spec in self._specs:
             if hasattr(type(self), spec.name) or spec.name.startswith("_"):
                 raise RuntimeError(f"variable name {spec.name!r} clashes with the slave class")
-            setattr(self, spec.name, spec.start if spec.start is not None else _ZERO[spec.type])
+            setattr(self, spec.name, _initial(spec))
             var = _VAR_TYPES[spec.type](
                 spec.name, causality=pythonfmu.Fmi2Causality[spec.causality],
                 variability=pythonfmu.Fmi2Variability[spec.variability],
@@ -378,6 +384,12 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             st = fmu_state.read(blob, self.guid,
                                 [(s.name, s.type, s.causality) for s in self._specs])
             evaluator = None
+            if st.mode == "instantiated":  # no output computed yet
+                for spec in self._specs:
+                    value = st.values[spec.name]
+                    if spec.causality == "output" and value != _initial(spec):
+                        raise ValueError(f"{spec.name}={value!r} in a state before "
+                                         f"initialization: allowed {_initial(spec)!r}")
             if st.mode in ("step", "terminated"):
                 config = self._config(st.values)
                 ev = self._evaluator
@@ -387,6 +399,11 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
                 if st.result is not None and st.result.method not in used:
                     raise ValueError(f"the state's result is of method {st.result.method!r}, "
                                      f"its parameters select {config.method!r}")
+                if st.fresh:  # outputs the next read returns as they are: they must be the law's
+                    v = st.values
+                    evaluator.check_outputs(v["N"], v.get("mu", config.mu), v.get("Fx", 0.0),
+                                            v.get("Fy", 0.0), v["a"], v["b"], v["p0"],
+                                            v["slip_fraction"])
         except ValueError as e:
             self._reject(f"{where}: {e}; the instance keeps its state")
             return None
@@ -404,7 +421,8 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             setattr(self, name, value)
         self._enter(st.mode)
         self._time = st.time
-        self._fresh = st.fresh
+        # in Initialization Mode the outputs are computed again when read (_initial_outputs)
+        self._fresh = st.fresh and st.mode != "initialization"
         self._converged = st.result is None or st.result.converged
         if evaluator is not None:
             evaluator.last = st.result
