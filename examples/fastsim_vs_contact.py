@@ -166,21 +166,14 @@ def grid_limit(states: list[dict[str, float]], bound: str, options: dict) -> np.
     return r2 + (r2 - r) * n / (n2 - n)
 
 
-def bench_cells(bench, refs, res: np.ndarray) -> dict[str, tuple[float, float]]:
-    """p95 / max per series of one program's results ``res`` on the benchmark (its cases in
-    order)."""
-    kind = np.array([c.kind for c in bench])
-    eF, eM = bench_errors(bench, refs, res)
-    cells = {f"benchmark, {title}": cell(100 * eF[kind == k]) for k, title in KINDS}
-    cells["benchmark, Mz (all but pure ξ)"] = cell(100 * eM)
-    return cells
-
-
 def series_cells(bench, refs, bench_res: np.ndarray, held, held_refs,
                  held_res: list[np.ndarray]) -> dict[str, tuple[float, float]]:
     """p95 / max per series of one program's results on the benchmark (``bench_res``, its cases
     in order) and on the held-out sets (``held_res``, one array per set of ``held``)."""
-    cells = bench_cells(bench, refs, bench_res)
+    kind = np.array([c.kind for c in bench])
+    eF, eM = bench_errors(bench, refs, bench_res)
+    cells = {f"benchmark, {title}": cell(100 * eF[kind == k]) for k, title in KINDS}
+    cells["benchmark, Mz (all but pure ξ)"] = cell(100 * eM)
     for (_, title, cases, _), ref, res in zip(held, held_refs, held_res):
         f_key, m_key = held_series(title)
         cells[f_key], cells[m_key] = (cell(e) for e in result_errors(cases, ref, res))
