@@ -80,8 +80,8 @@ KINDS = (("longitudinal", "pure ξ"), ("lateral", "pure η"), ("creepage", "ξ a
 
 def _rows(path: Path) -> list[dict[str, str]]:
     """The rows of a CSV file (gzip-compressed if its name ends in .gz), without "#" lines."""
-    with (gzip.open(path, "rt", encoding="utf-8") if path.suffix == ".gz"
-          else path.open(encoding="utf-8")) as f:
+    with (gzip.open(path, "rt", encoding="utf-8", newline="") if path.suffix == ".gz"
+          else path.open(encoding="utf-8", newline="")) as f:
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
 
