@@ -1,8 +1,10 @@
 # Two commands do all set-up on a fresh machine with only python3:
 #   make run   - create .venv, install, run the main job (see README)
-#   make test  - create .venv, install, run the tests
+#   make test  - create .venv, install, check the layers' imports (lint-imports), run the tests
+#                (all tiers; `.venv/bin/python -m pytest -m "not slow"` is the quick loop)
 # Each target installs what it needs (pyproject extras): run and bench the FMU build (fmu), fmpy
-# (host) and the reports (bench); test those and pytest, libcosimpy (test).
+# (host) and the tooling (bench: contact_tools); test those and pytest, libcosimpy,
+# import-linter (test).
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
@@ -25,18 +27,21 @@ run: $(VENV)/.installed-run
 	$(PY) examples/exact_traction_map.py
 	$(PY) examples/fmu_demo.py
 	$(PY) examples/run_hunting.py
-	$(PY) -m contact_core.bench --out out
+	$(PY) examples/adhesion.py
+	$(PY) -m contact_tools.bench --out out
 
 test: $(VENV)/.installed-test
+	$(VENV)/bin/lint-imports
 	$(PY) -m pytest -q
 
 bench: $(VENV)/.installed-run
-	$(PY) examples/bench_closed_form.py
-	$(PY) examples/bench_fastsim.py
-	$(PY) examples/bench_exact.py
-	$(PY) examples/bench_fmu.py
-	$(PY) examples/bench_fmu_startup.py
-	$(PY) examples/bench_fmu_leaks.py
+	$(PY) -m contact_tools.bench_closed_form
+	$(PY) -m contact_tools.bench_fastsim
+	$(PY) -m contact_tools.bench_exact
+	$(PY) -m contact_tools.bench_fmu
+	$(PY) -m contact_tools.bench_fmu_startup
+	$(PY) -m contact_tools.bench_fmu_leaks
+	$(PY) -m contact_tools.bench_geometry
 
 clean:
 	rm -rf $(VENV) out dist build *.egg-info

@@ -12,13 +12,15 @@ from .base import ContactMethod
 from .cache import clear_caches
 from .coefficients import creep_coefficients
 from .effects import ALL_EFFECTS, EFFECT_NAMES, Effects
+from .friction import FrictionLaw
 from .hertz import (HertzGeometry, HertzPatch, hertz, hertz_from_radii, hertz_geometry,
                     wheel_rail_curvatures)
 from .material import contact_modulus, shear_modulus
 from .result import ContactResult
 from .scene import DEFAULT_SCENE, Scene, load_scene, scenes
 from .variables import VARIABLES, Variable, scene_variables
-from .wheel_rail import WheelRailConfig, WheelRailEvaluator
+from .wheel_rail import (VaryingGeometryConfig, VaryingGeometryEvaluator, WheelRailConfig,
+                         WheelRailEvaluator)
 
 __all__ = [
     "ALL_EFFECTS", "EFFECT_NAMES", "METHODS", "ContactMethod", "ContactResult", "Effects",
@@ -27,5 +29,7 @@ __all__ = [
     "hertz_from_radii", "hertz_geometry", "make_solver", "methods", "shear_modulus", "solve",
     "wheel_rail_curvatures",
 ]
+__all__ += ["FrictionLaw"]
 __all__ += ["DEFAULT_SCENE", "Scene", "VARIABLES", "Variable", "WheelRailConfig",
             "WheelRailEvaluator", "load_scene", "scene_variables", "scenes"]
+__all__ += ["VaryingGeometryConfig", "VaryingGeometryEvaluator"]

@@ -8,14 +8,16 @@ from .cache import register
 from .effects import Effects, as_effects
 from .exact import Exact
 from .fastsim import Fastsim
+from .friction import FrictionLaw
 from .johnson_vermeulen import JohnsonVermeulen
 from .linear import LinearTheory
+from .polach import Polach
 from .result import ContactResult
 from .table import Table
 
 #: Registered methods, cheapest to dearest.
 METHODS: dict[str, type[ContactMethod]] = {
-    cls.name: cls for cls in (LinearTheory, JohnsonVermeulen, Fastsim, Table, Exact)
+    cls.name: cls for cls in (LinearTheory, JohnsonVermeulen, Polach, Fastsim, Table, Exact)
 }
 
 _solvers: dict[tuple, ContactMethod] = {}  # see contact_core.cache: emptied when full
@@ -28,26 +30,29 @@ def methods() -> tuple[str, ...]:
 
 
 def make_solver(method: str, effects: Effects | Iterable[str] | None = None,
-                **options: Any) -> ContactMethod:
-    """Construct a method object once, to call its ``step`` many times (e.g. from the FMU)."""
+                friction: FrictionLaw | None = None, **options: Any) -> ContactMethod:
+    """Construct a method object once, to call its ``step`` many times (e.g. from the FMU).
+    ``friction``: the law of the effect 'falling_friction' (None: ``FrictionLaw()``); with that
+    effect ``step`` takes the rolling speed ``V`` (m/s) after ``warm_start``."""
     try:
         cls = METHODS[method]
     except (KeyError, TypeError):
         raise ValueError(f"method={method!r} is unknown: allowed {list(METHODS)}") from None
-    return cls(as_effects(effects), **options)
+    return cls(as_effects(effects), friction, **options)
 
 
-def _cached_solver(method: str, effects: Any, options: dict[str, Any]) -> ContactMethod:
+def _cached_solver(method: str, effects: Any, friction: Any,
+                   options: dict[str, Any]) -> ContactMethod:
     if not isinstance(effects, (Effects, tuple, frozenset, str, type(None))):
         effects = as_effects(effects)  # a list, set or generator of names: not a cache key
     try:
         # with the types: True == 1 == 1.0, but an option may accept one and refuse the others
-        key = (method, effects, tuple((k, type(v), v) for k, v in options.items()))
+        key = (method, effects, tuple((k, type(v), v) for k, v in options.items()), friction)
         solver = _solvers.get(key)
     except TypeError:  # unhashable option value: no caching
-        return make_solver(method, effects, **options)
+        return make_solver(method, effects, friction, **options)
     if solver is None:
-        solver = make_solver(method, effects, **options)
+        solver = make_solver(method, effects, friction, **options)
         if len(_solvers) > 512:
             _solvers.clear()
         _solvers[key] = solver
@@ -56,7 +61,8 @@ def _cached_solver(method: str, effects: Any, options: dict[str, Any]) -> Contac
 
 def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
           b: float, G: float, nu: float, effects: Effects | Iterable[str] | None = None,
-          warm_start: ContactResult | None = None, **options: Any) -> ContactResult:
+          warm_start: ContactResult | None = None, V: float | None = None,
+          friction: FrictionLaw | None = None, **options: Any) -> ContactResult:
     """Creep forces and spin moment of one wheel–rail contact.
 
     Parameters
@@ -81,6 +87,12 @@ def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float
         Effects to compute (see :mod:`contact_core.effects`); all by default.
     warm_start : ContactResult, optional
         A previous result of the same method near this state; iterative methods start from it.
+    V : float, optional
+        Rolling speed, m/s, with the effect ``falling_friction`` (the slip velocity is the
+        creepage times |V|; None or 0: static friction). Without that effect it must be None or 0.
+    friction : FrictionLaw, optional
+        The law of the effect ``falling_friction`` (:mod:`contact_core.friction`; None: the
+        default ``FrictionLaw()``), ``mu`` being its static coefficient.
     **options
         Passed to the method (e.g. ``variant=`` for Johnson–Vermeulen); unknown ones are an error.
 
@@ -90,10 +102,17 @@ def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float
         ``Fx, Fy`` in N, ``Mz`` in N·m, forces of the rail on the wheel (Kalker's convention:
         ``Fx = -G c² C11 ξ`` for small ξ, c = √(ab)).
     """
-    try:  # the common call: hashable effects, no options
-        solver = _solvers[method, effects, ()] if not options else None
+    try:  # the common call: hashable effects, no options, no friction law
+        solver = _solvers[method, effects, (), None] if not (options or friction) else None
     except (KeyError, TypeError):
         solver = None
     if solver is None:
-        solver = _cached_solver(method, effects, options)
-    return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+        solver = _cached_solver(method, effects, friction, options)
+    if V is None:
+        return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+    if solver.friction is None:
+        if V:
+            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
+                             "selected: allowed None or 0, or select the effect")
+        return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+    return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start, V)

@@ -17,6 +17,7 @@ import numpy as np
 
 from .coefficients import A_OVER_B_RANGE
 from .effects import ALL_EFFECTS, Effects
+from .friction import DEFAULT_LAW, FrictionLaw, Rolling, creep_velocity, ratio_of
 from .result import ContactResult, make_result
 from .variables import out_of_range
 
@@ -157,6 +158,40 @@ def _onto_bound(fx: float, fy: float, bound: float) -> tuple[float, float]:
     return fx, fy
 
 
+def _speed(V: Any) -> float:
+    """|V| of the rolling speed V (m/s), or a ``ValueError`` naming it."""
+    if type(V) is float and -math.inf < V < math.inf:    # the common call, at no cost
+        return V if V >= 0.0 else -V
+    if isinstance(V, numbers.Real) and not isinstance(V, bool) and np.ndim(V) == 0:
+        try:
+            v = float(V)
+        except OverflowError:
+            v = math.inf
+        if math.isfinite(v):
+            return abs(v)
+        raise out_of_range("V", V)
+    raise ValueError(f"V={V!r} is not a number: allowed a real scalar ({type(V).__name__} "
+                     "given)")
+
+
+def _falling_law(effects: Effects, friction: Any) -> FrictionLaw | None:
+    """The friction law of a method for ``effects`` (None without 'falling_friction')."""
+    if not effects.falling_friction:
+        if friction is not None:
+            raise ValueError(f"friction={friction!r} is given but the effect 'falling_friction' "
+                             "is not selected: allowed None, or select the effect")
+        return None
+    if not effects.saturation:
+        raise ValueError("effects: 'falling_friction' needs 'saturation' (without it friction "
+                         "does not enter the result)")
+    if friction is None:
+        return DEFAULT_LAW
+    if not isinstance(friction, FrictionLaw):
+        raise ValueError(f"friction={friction!r} is invalid: allowed a "
+                         "contact_core.FrictionLaw or None (the default law)")
+    return friction
+
+
 # Similarity units (ContactMethod._similar).
 _P0 = 3.0 / (2.0 * math.pi)         # p0 = _P0 N/(ab) (hertz.max_pressure; Kalker 1979 eq 3)
 _LOG_P0 = math.log(_P0)
@@ -181,8 +216,11 @@ class ContactMethod(ABC):
     #: The method that solves the states outside this one's domain (None: no such states); its
     #: results then carry that method's ``name``.
     fallback: ClassVar[str | None] = None
+    #: SI units of the real options that have one (the others are dimensionless).
+    option_units: ClassVar[dict[str, str]] = {}
 
-    def __init__(self, effects: Effects = ALL_EFFECTS, **options: Any) -> None:
+    def __init__(self, effects: Effects = ALL_EFFECTS, friction: FrictionLaw | None = None,
+                 **options: Any) -> None:
         unknown = sorted(set(options) - set(self.default_options))
         if unknown:
             raise ValueError(f"method {self.name!r}: unknown option(s) {unknown}; "
@@ -192,7 +230,17 @@ class ContactMethod(ABC):
         self._saturates = effects.saturation and self.saturates
         # every creepage input selected: the fast path of step need not check for ignored ones
         self._all_inputs = effects.longitudinal and effects.lateral and effects.spin
+        #: The law of the effect 'falling_friction' (None without it).
+        self.friction = _falling_law(effects, friction)
+        #: Set by a method's _check_options when it bounds each traction by the friction at its
+        #: own slip velocity (its _step_impl then takes ``rolling``); else the effect takes one
+        #: coefficient at the creep velocity (_step_falling).
+        self._falling_local = False
         self._check_options()
+        if self.friction is not None:
+            # the Coulomb path (step) stays as it is; this instance's step takes V
+            self._law = self.friction.params()
+            self.step = self._step_falling
 
     def _check_options(self) -> None:
         """Validate ``self.options``; raise ``ValueError`` naming the option and its range."""
@@ -213,15 +261,7 @@ class ContactMethod(ABC):
             if not (self._all_inputs and _moderate(xi, eta, phi, N, mu, a, b, G, nu,
                                                    self._saturates)):
                 check_inputs(xi, eta, phi, N, mu, a, b, G, nu)
-                eff = self.effects
-                if ((xi and not eff.longitudinal) or (eta and not eff.lateral)
-                        or (phi and not eff.spin)):
-                    off = [n for n, v, on in (("xi", xi, eff.longitudinal),
-                                              ("eta", eta, eff.lateral), ("phi", phi, eff.spin))
-                           if v and not on]
-                    raise ValueError(f"{off[0]} is non-zero but its effect is not selected "
-                                     f"(effects={list(eff.names())}); pass 0.0 or select the "
-                                     "effect")
+                self._refuse_unselected(xi, eta, phi)
                 if N == 0.0 or (mu == 0.0 and self._saturates):
                     # Wheel lifted (no load) or frictionless contact: no tangential force.
                     return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
@@ -239,6 +279,62 @@ class ContactMethod(ABC):
                 raise
             raise named from None
 
+    def _refuse_unselected(self, xi: float, eta: float, phi: float) -> None:
+        """A ``ValueError`` for a non-zero creepage whose effect is not selected."""
+        eff = self.effects
+        if (xi and not eff.longitudinal) or (eta and not eff.lateral) or (phi and not eff.spin):
+            off = [n for n, v, on in (("xi", xi, eff.longitudinal), ("eta", eta, eff.lateral),
+                                      ("phi", phi, eff.spin)) if v and not on]
+            raise ValueError(f"{off[0]} is non-zero but its effect is not selected "
+                             f"(effects={list(eff.names())}); pass 0.0 or select the effect")
+
+    def _step_falling(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
+                      b: float, G: float, nu: float, warm_start: ContactResult | None = None,
+                      V: float = 0.0) -> ContactResult:
+        """:meth:`step` with the effect 'falling_friction' (it replaces ``step`` on such an
+        instance): ``V`` is the rolling speed, m/s (its sign does not matter; 0: static
+        friction throughout), ``mu`` the static coefficient of ``self.friction``.
+
+        A method without a local law (``_falling_local`` False) solves its Coulomb problem with
+        one coefficient μ(w), w = |V| s_C the creep velocity (:func:`.friction.creep_velocity`;
+        Polach 2005, Spiryagin et al. 2013); a local one gets the rolling speed in its
+        ``_step_impl``. Without saturation (linear theory) friction does not enter."""
+        speed = _speed(V)
+        if not self._saturates:
+            return type(self).step(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+        if self._falling_local:
+            return self._step_local(xi, eta, phi, N, mu, a, b, G, nu, warm_start, speed)
+        try:
+            mu_c = mu * ratio_of(self._law, creep_velocity(speed, xi, eta, phi, a))
+        except (TypeError, ValueError, OverflowError):
+            mu_c = mu          # not numbers: step names the argument
+        if not math.isfinite(mu_c):
+            mu_c = mu          # a non-finite input: step names it
+        return type(self).step(self, xi, eta, phi, N, mu_c, a, b, G, nu, warm_start)
+
+    def _step_local(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
+                    b: float, G: float, nu: float, warm_start: ContactResult | None,
+                    speed: float) -> ContactResult:
+        """:meth:`step`'s checks and scaling around a ``_step_impl`` that takes the rolling
+        speed and the friction memory distance (:class:`.friction.Rolling`)."""
+        try:
+            check_inputs(xi, eta, phi, N, mu, a, b, G, nu)
+            self._refuse_unselected(xi, eta, phi)
+            if N == 0.0 or mu == 0.0:
+                return make_result(0.0, 0.0, 0.0, self.name, 1.0 if N else 0.0)
+            if not _moderate(xi, eta, phi, N, mu, a, b, G, nu, True):
+                return self._similar(xi, eta, phi, N, mu, a, b, G, nu, warm_start, speed)
+            r = self._step_impl(xi, eta, phi, N, mu, a, b, G, nu, warm_start,
+                                Rolling(speed, self.friction.memory))
+            if math.hypot(r.Fx, r.Fy) > mu * N:
+                return self._held(r, mu * N)
+            return r
+        except (TypeError, ValueError, OverflowError):
+            named = _not_a_number((xi, eta, phi, N, mu, a, b, G, nu))
+            if named is None:
+                raise
+            raise named from None
+
     @staticmethod
     def _held(r: ContactResult, bound: float) -> ContactResult:
         """``r`` with |F| <= μN (``bound``) in floating point, as users check it: a force formed
@@ -247,7 +343,8 @@ class ContactMethod(ABC):
         return replace(r, Fx=fx, Fy=fy)
 
     def _similar(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
-                 b: float, G: float, nu: float, warm_start: Any) -> ContactResult:
+                 b: float, G: float, nu: float, warm_start: Any,
+                 speed: float | None = None) -> ContactResult:
         """The state solved in the units of Hertzian similarity, for every finite input.
 
         F/(μN) and Mz/(μN c) (without saturation F/N and Mz/(N c)) depend only on a/b, ν and the
@@ -261,6 +358,11 @@ class ContactMethod(ABC):
         element slips, and without saturation always, the forces are linear in σ, so they are
         scaled back by the same factor. A result beyond the float range (an unsaturated force,
         or μN itself) is a ValueError naming the inputs.
+
+        With a local falling-friction law (``speed``, the rolling speed in m/s) the slip
+        velocities V w are kept (w, the slip per rolling speed, scales with σ: V by its inverse)
+        and so is the memory's θ = d_c/(d_c + (h/V) s) (h/V per unit slip velocity scales with
+        the lengths and σ: d_c likewise).
         """
         sat = self._saturates
         log_c = 0.5 * (math.log(a) + math.log(b))
@@ -281,8 +383,18 @@ class ContactMethod(ABC):
         r_ab = a / b
         c_canon = math.sqrt(r_ab)
         n_canon = _N_CANON * r_ab
-        r = self._step_impl(sig[0], sig[1], sig[2] / c_canon, n_canon, 1.0, r_ab, 1.0, 1.0, nu,
-                            warm_start)
+        if speed is None:
+            r = self._step_impl(sig[0], sig[1], sig[2] / c_canon, n_canon, 1.0, r_ab, 1.0, 1.0,
+                                nu, warm_start)
+        else:
+            # σ = creepage e^(log_k + shift); canonical lengths are SI / b. Held below 1e100
+            # (the friction then is the kinetic one, the memory at most θ -> 1): no inf * 0.
+            up = log_k + shift
+            rolling = Rolling(math.exp(min(math.log(speed) - up, 230.0)) if speed > 0.0 else 0.0,
+                              math.exp(min(math.log(self.friction.memory) + up - math.log(b),
+                                           230.0)) if self.friction.memory > 0.0 else 0.0)
+            r = self._step_impl(sig[0], sig[1], sig[2] / c_canon, n_canon, 1.0, r_ab, 1.0, 1.0,
+                                nu, warm_start, rolling)
         # back to SI: forces per (μ)N, moment per (μ)N c; linear regime: undo the scale-up
         f_scale = (mu * N if sat else N) / n_canon
         down = 1.0
@@ -321,4 +433,6 @@ class ContactMethod(ABC):
     def _step_impl(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
                    b: float, G: float, nu: float,
                    warm_start: ContactResult | None) -> ContactResult:
-        """Compute one validated contact state with N > 0."""
+        """Compute one validated contact state with N > 0. A method with a local falling-friction
+        law (``_falling_local``) also takes ``rolling`` (:class:`.friction.Rolling`) after
+        ``warm_start``."""

@@ -9,11 +9,13 @@ its size, because an LRU's bookkeeping would cost a tenth of a linear-theory cal
 are shared: callers must not modify returned arrays.
 
 :func:`clear_caches` empties every cache (cold-start benchmarks, or to free the memory).
+numba's compiled kernels are cached on disk next to their modules (``cache=True``);
+:func:`compiled_with_data` guards the kernels that carry data of their own.
 """
 from __future__ import annotations
 
 import functools
-from typing import Callable, TypeVar
+from typing import Callable, Sequence, TypeVar
 
 F = TypeVar("F", bound=Callable)
 _CLEARERS: list[Callable[[], None]] = []
@@ -37,3 +39,29 @@ def clear_caches() -> None:
     """Empty every cache of ``contact_core``."""
     for clear in _CLEARERS:
         clear()
+
+
+def compiled_with_data(fn: F, samples: Sequence[tuple], rtol: float = 1e-12,
+                       nogil: bool = True) -> F:
+    """``fn`` compiled by numba with its on-disk cache, checked against ``fn`` itself.
+
+    For a kernel whose data are module-level arrays: numba freezes global arrays into the
+    compiled code as constants (no array arguments to pass, which would cost a tenth of a µs
+    each per call), but keys its disk cache on the source file only, so a cache compiled from
+    other data (an edited data file, a new scipy) would be used as it is. The compiled function
+    is therefore compared with the interpreted one on ``samples`` (argument tuples) and compiled
+    afresh (which rewrites the cache) where any value differs by more than ``rtol``.
+    """
+    import numba
+    kernel = numba.njit(cache=True, nogil=nogil, error_model="numpy")(fn)
+
+    def stale() -> bool:
+        for args in samples:
+            for got, want in zip(kernel(*args), fn(*args)):
+                if not abs(got - want) <= rtol * abs(want):
+                    return True
+        return False
+
+    if stale():
+        kernel.recompile()
+    return kernel

@@ -52,12 +52,15 @@ import csv
 import math
 from bisect import bisect_right
 from importlib import resources
+from typing import Callable
 
 import numpy as np
+from numba import objmode
+from numba.extending import register_jitable
 from scipy.interpolate import BSpline, PPoly, RectBivariateSpline
 
 from . import notices
-from .cache import cached
+from .cache import cached, compiled_with_data
 
 #: Supported range of a/b (table 0.1..10 plus Kalker's asymptotes beyond it).
 A_OVER_B_RANGE: tuple[float, float] = (0.005, 200.0)
@@ -108,9 +111,11 @@ _LOG_LO, _LOG_HI = math.log(_RATIOS[0]), math.log(_RATIOS[-1])
 # Evaluated in plain floats: ν is a variable like a/b here, and a contact point moving over
 # curved profiles meets a new a/b at every step. Per new (a/b, ν), measured in one run: scipy's
 # four spline calls 21 µs, the polynomials in numpy 6 µs, these loops 2.5 µs (a numba kernel
-# 1.3 µs, but its first call would cost 0.2 s in a process that compiles nothing else, as the
-# linear and Johnson-Vermeulen FMUs). Code that is compiled anyway (the method "table") calls
-# :func:`spline_coefficients` inside its kernel instead.
+# 1.3 µs with the spline as array arguments, 0.35 µs with it frozen into the kernel, but its
+# first call costs 0.2 s in a process that compiles nothing else, as the linear and
+# Johnson-Vermeulen FMUs: :func:`per_call_coefficients` uses it where a/b changes at every call).
+# Code that is compiled anyway (the method "table") calls :func:`spline_coefficients` inside
+# its kernel instead.
 _PIECE_LIST = _PIECES[:, :, ::-1, :].tolist()       # (interval, k, power 3..0, ν power 0..2)
 #: The spline as arrays, for :func:`spline_coefficients`: breakpoints in ln(a/b), and per
 #: interval, coefficient k and power 3..0 of (x - x_i) the factors of ν^0, ν^1, ν^2.
@@ -128,20 +133,45 @@ def _table(a_over_b: float, nu: float) -> list[float]:
             for p3, p2, p1, p0 in _PIECE_LIST[i]]
 
 
+@register_jitable
+def _interval(breaks: np.ndarray, x: float) -> tuple[int, float]:
+    """The spline's interval i at ln(a/b) = x and the distance x - x_i (:func:`_table`)."""
+    i = min(max(int(np.searchsorted(breaks, x, side="right")) - 1, 0), breaks.shape[0] - 1)
+    return i, x - breaks[i]
+
+
+@register_jitable
+def _piece_value(p: np.ndarray, dx: float, nu: float) -> float:
+    """One coefficient from its piece ``p`` (power 3..0 of dx by ν power 0..2), as :func:`_table`
+    evaluates it."""
+    return math.exp((((p[0, 0] + nu * (p[0, 1] + nu * p[0, 2])) * dx
+                      + p[1, 0] + nu * (p[1, 1] + nu * p[1, 2])) * dx
+                     + p[2, 0] + nu * (p[2, 1] + nu * p[2, 2])) * dx
+                    + p[3, 0] + nu * (p[3, 1] + nu * p[3, 2]))
+
+
 def spline_coefficients(breaks: np.ndarray, pieces: np.ndarray, x: float,
                         nu: float) -> tuple[float, float, float]:
     """(C11, C22, C23) at ln(a/b) = x inside Kalker's table (``_LOG_LO <= x <= _LOG_HI``) from
     the arrays ``SPLINE``: the same spline, operations and order as :func:`_table`, written for
     numba (array arguments, no Python objects), for kernels that compile anyway."""
-    i = min(max(int(np.searchsorted(breaks, x, side="right")) - 1, 0), breaks.shape[0] - 1)
-    dx = x - breaks[i]
+    i, dx = _interval(breaks, x)
+    p = pieces[i]
+    return _piece_value(p[0], dx, nu), _piece_value(p[1], dx, nu), _piece_value(p[2], dx, nu)
 
-    def one(p):                 # inlined by numba
-        return math.exp((((p[0, 0] + nu * (p[0, 1] + nu * p[0, 2])) * dx
-                          + p[1, 0] + nu * (p[1, 1] + nu * p[1, 2])) * dx
-                         + p[2, 0] + nu * (p[2, 1] + nu * p[2, 2])) * dx
-                        + p[3, 0] + nu * (p[3, 1] + nu * p[3, 2]))
-    return one(pieces[i, 0]), one(pieces[i, 1]), one(pieces[i, 2])
+
+_SPLINE_BREAKS, _SPLINE_PIECES = SPLINE
+
+
+@register_jitable
+def table_coefficients(a_over_b: float, nu: float) -> tuple[float, float, float, float]:
+    """(C11, C22, C23, C33) inside Kalker's table (0.1 <= a/b <= 10, 0 <= ν <= 0.5, unchecked)
+    as :func:`_table` gives them, written for numba with the spline as frozen module arrays
+    (:func:`_per_call`)."""
+    i, dx = _interval(_SPLINE_BREAKS, math.log(a_over_b))
+    p = _SPLINE_PIECES[i]
+    return (_piece_value(p[0], dx, nu), _piece_value(p[1], dx, nu), _piece_value(p[2], dx, nu),
+            _piece_value(p[3], dx, nu))
 
 
 def _asymptote_thin_a(g: float, nu: float) -> list[float]:
@@ -199,3 +229,38 @@ def creep_coefficients(a_over_b: float, nu: float) -> tuple[float, float, float,
     if not (0.0 <= nu <= 0.5):
         raise ValueError(f"nu={nu!r} is out of range: allowed 0 <= nu <= 0.5")
     return _coefficients(float(a_over_b), float(nu))
+
+
+_TABLE_AB_LO, _TABLE_AB_HI = float(_RATIOS[0]), float(_RATIOS[-1])
+
+
+def _per_call(a_over_b: float, nu: float) -> tuple[float, float, float, float]:
+    """:func:`creep_coefficients` uncached: inside the table :func:`table_coefficients`, outside
+    it (Kalker's asymptotes, and the warning for C33) the cached Python function, called from
+    the compiled code (numba's object mode: rare, and a Python call anyway)."""
+    if _TABLE_AB_LO <= a_over_b <= _TABLE_AB_HI:
+        return table_coefficients(a_over_b, nu)
+    with objmode(c11="float64", c22="float64", c23="float64", c33="float64"):
+        c11, c22, c23, c33 = creep_coefficients(a_over_b, nu)
+    return c11, c22, c23, c33
+
+
+_PER_CALL = None
+
+
+def per_call_coefficients(varying: bool) -> Callable[[float, float],
+                                                     tuple[float, float, float, float]]:
+    """The function a method gets its coefficients from: :func:`creep_coefficients` (cached per
+    (a/b, ν)) for a contact whose a/b repeats, and with ``varying`` (the effect
+    ``varying_geometry``: a new a/b at every call, where a cache only misses) :func:`_per_call`
+    compiled (the same values; numba compiles it, or loads it from its cache, on first use,
+    which fixed-geometry processes are spared). Inputs as the methods check them (a/b in
+    ``A_OVER_B_RANGE``, 0 <= ν < 0.5)."""
+    global _PER_CALL
+    if not varying:
+        return creep_coefficients
+    if _PER_CALL is None:
+        samples = [(r, nu) for r in (0.1, 0.37, 1.0, 4.2, 10.0) for nu in (0.0, 0.28, 0.5)]
+        # object mode holds the GIL in its branch: compiled without nogil (which would warn)
+        _PER_CALL = compiled_with_data(_per_call, samples, nogil=False)
+    return _PER_CALL

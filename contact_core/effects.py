@@ -16,6 +16,18 @@ every method computes only that:
     unsaturated limit μ → ∞ (the linear range), which is cheaper, and μ is not used.
 ``variable_friction``
     μ is a time-varying input (FMU only: the core always takes μ per call).
+``falling_friction``
+    friction falls with the slip velocity (:mod:`contact_core.friction`): the rolling speed V
+    (m/s) is an input and μ is the static coefficient of a :class:`~contact_core.friction.
+    FrictionLaw`. Needs ``saturation``. Opt-in: not in the default set :data:`ALL_EFFECTS`
+    (every effect of Coulomb friction), whose calls it leaves unchanged.
+``varying_geometry``
+    the patch geometry is an input at every step: the relative curvatures A, B of the two
+    surfaces at the contact point (1/m), or the host's own semi-axes a, b (m), instead of the
+    fixed radii ``R_wheel``, ``R_wheel_profile``, ``R_rail_profile`` (the evaluator and the FMU:
+    :class:`~contact_core.wheel_rail.VaryingGeometryEvaluator`; ``solve`` always takes a, b per
+    call). Methods given it expect a new a/b at every call and compute what depends on a/b per
+    call instead of caching it (the same results). Opt-in, like ``falling_friction``.
 
 Inputs of an effect that is not selected must be zero (a non-zero value is a ``ValueError``, never
 silently dropped); outputs of an effect that is not selected are reported as 0.0.
@@ -27,18 +39,29 @@ from typing import Iterable
 
 from .cache import cached
 
-EFFECT_NAMES: tuple[str, ...] = ("longitudinal", "lateral", "spin", "saturation", "variable_friction")
+EFFECT_NAMES: tuple[str, ...] = ("longitudinal", "lateral", "spin", "saturation", "variable_friction",
+                                   "falling_friction", "varying_geometry")
 
 
 @dataclass(frozen=True)
 class Effects:
-    """The set of effects a computation includes (all by default)."""
+    """The set of effects a computation includes (by default every effect of Coulomb friction;
+    ``falling_friction`` and ``varying_geometry`` are opt-in)."""
 
     longitudinal: bool = True
     lateral: bool = True
     spin: bool = True
     saturation: bool = True
     variable_friction: bool = True
+    falling_friction: bool = False
+    varying_geometry: bool = False
+
+    def __post_init__(self) -> None:
+        # solve() looks its solver up by the effects at every call: hashed once, not per call
+        object.__setattr__(self, "_hash", hash(tuple(getattr(self, f.name) for f in fields(self))))
+
+    def __hash__(self) -> int:
+        return self._hash
 
     @classmethod
     def from_names(cls, names: Iterable[str]) -> "Effects":
@@ -59,6 +82,8 @@ class Effects:
         return tuple(f.name for f in fields(self) if getattr(self, f.name))
 
 
+#: The default set: every effect of Coulomb friction (all but the opt-in ``falling_friction``
+#: and ``varying_geometry``).
 ALL_EFFECTS = Effects()
 
 

@@ -97,21 +97,21 @@ Option ``flexibility``:
     error's p95 and max (benchmark, both bounds, 20×20 and 48×44; parabolic 20×20 1.54 / 1.92
     against 1.52 / 1.89 % of μN, measured 2026-11-27); with spin the blend is what they gain.
 
-How the exponents p and q, the scheme and the bound's default were chosen, against the
-converged exact theory and against CONTACT's own FASTSIM (M=3, built from its source,
-eve70a/CONTACT d431cdb; its results are data in the tests), and the variants tried and not kept,
-are in docs/fastsim.md; ``python examples/fastsim_vs_contact.py`` regenerates the comparison
+How the exponents p and q, the scheme and the bound's default were chosen, against the converged
+exact theory and against CONTACT's own FASTSIM (M=3, built from its source, eve70a/CONTACT d431cdb;
+its results are data in the tests), and the variants tried and not kept, are in docs/fastsim.md;
+``python -m contact_tools.fastsim_vs_contact`` regenerates the comparison
 (docs/fastsim_vs_contact.md). In short (the force by its vector error): with the default options
 this module is not behind CONTACT's FASTSIM in 90 of the 96 figures (20×20 and 48×44, both bounds,
-the benchmark's 400 cases and the three held-out sets of ``python -m contact_core.table check``,
+the benchmark's 400 cases and the three held-out sets of ``python -m contact_tools.table check``,
 p95 and max), nor in any of the 48 of a second draw of the held-out sets. It is behind in 6, by
-0.03-0.24 % of μN, on the benchmark's pure ξ, η, φ (where neither the blend nor the slip law
-acts) and the elliptic bound's (ξ, η) maximum at 48×44 (where "separate" is behind by the same
-0.13): the two programs differ there in the grid layout (strips here, a rectangle there), and
-both are within 0.05 % of μN of simplified theory's own error or below it, each grid's
-first-order error cancelling part of it. Over 17 grids (14×14 to 56×56) it is behind in 6 of the
-held-out sets' 816 figures (5 of them on 14×14 to 18×18) and on none of the benchmark's with spin
-and creepage; without spin, which program is ahead depends on the grid.
+0.03-0.24 % of μN, on the benchmark's pure ξ, η, φ (where neither the blend nor the slip law acts)
+and the elliptic bound's (ξ, η) maximum at 48×44 (where "separate" is behind by the same 0.13): the
+two programs differ there in the grid layout (strips here, a rectangle there), and both are within
+0.05 % of μN of simplified theory's own error or below it, each grid's first-order error cancelling
+part of it. Over 17 grids (14×14 to 56×56) it is behind in 6 of the held-out sets' 816 figures (5
+of them on 14×14 to 18×18) and on none of the benchmark's with spin and creepage; without spin,
+which program is ahead depends on the grid.
 
 Traction bound g = μ p_n (option ``bound``):
 
@@ -196,6 +196,15 @@ small: Mz over linear theory's is 1.03, 1.06, 1.41, 2.68 at a/b = 1, 2, 5, 10 at
 1/nx (above). CONTACT's FASTSIM shares the scheme; with its blend ("blended-contact") 2.45 at
 a/b = 10.
 
+Falling friction (the effect ``falling_friction``, :mod:`contact_core.friction`): with
+``falling="local"`` (default) each element's bound is the friction at its own slip velocity,
+solved element by element in the march (:mod:`contact_core.fastsim_falling`); with ``"creep"``
+one coefficient at the creep velocity, as CONTACT's FASTSIM. Spiryagin's slope reduction (the
+"modified FASTSIM" of Spiryagin, Polach & Cole 2013; options ``k0``, ``alpha_inf``, ``beta``)
+divides every flexibility by k = k0 (α∞ + (1 - α∞)/(1 + β ε)), with or without falling
+friction; with CONTACT's settings it reproduces the modified-FASTSIM series of CONTACT's
+``tractcurv`` example within 0.7 % of μN (tests, examples/tractcurv_friction.py).
+
 ``fields=True`` returns a :class:`FastsimFields` in ``ContactResult.fields``. ``slip_fraction`` is
 the slipping area over the contact area (of the discrete grid).
 
@@ -212,8 +221,9 @@ from typing import Any, Callable
 import numpy as np
 
 from .cache import cached
-from .base import ContactMethod, bool_option, choice_option, int_option
-from .coefficients import creep_coefficients
+from .base import ContactMethod, bool_option, choice_option, float_option, int_option
+from .coefficients import per_call_coefficients
+from .friction import Rolling, creep_velocity, ratio_of
 from .result import ContactResult, make_result
 
 #: Allowed range of ``nx`` and ``ny`` (elements per strip, number of strips).
@@ -238,6 +248,9 @@ MOMENT_POWER: dict[str, float] = {"parabolic": 0.5, "elliptic": 0.0}
 #: Flexibilities (option ``flexibility``, module docstring): one per creepage blended towards one
 #: as the creepage grows (two weights), one per creepage, or Kalker 1982's single weighted one.
 FLEXIBILITIES: tuple[str, ...] = ("blended", "blended-contact", "separate", "weighted")
+#: With the effect falling_friction (option ``falling``): each element's bound at its own slip
+#: velocity, or one coefficient at the creep velocity.
+FALLING_MODES: tuple[str, ...] = ("local", "creep")
 _BLENDED, _BLENDED_CONTACT, _SEPARATE, _WEIGHTED = range(len(FLEXIBILITIES))
 
 # Rows of the fields array the kernel fills when asked.
@@ -336,9 +349,9 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2:
 def _flexibilities(a: float, b: float, G: float, mu: float, N: float, xi: float, eta: float,
                    phi: float, c11: float, c22: float, c23: float, c33: float, mode: int,
                    share_power: float,
-                   moment_power: float) -> tuple[float, float, float, float, float]:
-    """(1/L1, 1/L2, 1/L3, 1/L3x, Ly/Lx) of one state (Pa/m, Pa/m, Pa/m, Pa/m, -; module
-    docstring): Kalker 1982's flexibilities, the spin term of the longitudinal slip's L3x =
+                   moment_power: float) -> tuple[float, float, float, float, float, float]:
+    """(1/L1, 1/L2, 1/L3, 1/L3x, Ly/Lx, Lx) of one state (Pa/m, Pa/m, Pa/m, Pa/m, -, m/Pa;
+    module docstring): Kalker 1982's flexibilities, the spin term of the longitudinal slip's L3x =
     L3^(1-q) L4^q (q = ``moment_power``, ``MOMENT_POWER``; 0 outside the default blend), all
     changed by ``mode`` (``_BLENDED`` ... ``_WEIGHTED``, the index in ``FLEXIBILITIES``; the
     blends only with the saturation effect, the caller's choice; the share's exponent
@@ -387,7 +400,7 @@ def _flexibilities(a: float, b: float, G: float, mu: float, N: float, xi: float,
     ax, ay = abs(xi) + cphi, abs(eta) + cphi
     lx = lcx + (l3 - lcx) * (cphi / ax) if ax > 0.0 else lcx
     ly = lcy + (l3 - lcy) * (cphi / ay) if ay > 0.0 else lcy
-    return 1.0 / l1, 1.0 / l2, 1.0 / l3, 1.0 / l3x, ly / lx
+    return 1.0 / l1, 1.0 / l2, 1.0 / l3, 1.0 / l3x, ly / lx, lx
 
 
 def _onto_bound(hx: float, hy: float, g: float, r21: float) -> tuple[float, float]:
@@ -477,8 +490,9 @@ class FastsimFields:
         Tangential tractions of the rail on the wheel, Pa (same sign convention as the forces).
     bound : ndarray
         Traction bound of each element, Pa: μ p_n averaged over the element along its strip
-        (incl. the discrete load normalisation); with the ``saturation`` effect off it is
-        reported but not applied.
+        (incl. the discrete load normalisation; with the local falling-friction law μ at the
+        element's slip velocity); with the ``saturation`` effect off it is reported but not
+        applied.
     slip : ndarray of bool
         True where the element slips (|p| = bound), False where it sticks.
     area : ndarray
@@ -525,17 +539,31 @@ class Fastsim(ContactMethod):
         Kalker 1982's single weighted one (module docstring).
     fields : bool, default False
         Return :class:`FastsimFields` (grid, tractions, bound, stick/slip mask, areas).
+    falling : {"local", "creep"}, default "local"
+        With the effect ``falling_friction``: each element's bound at its own slip velocity
+        (:mod:`contact_core.fastsim_falling`), or one coefficient at the creep velocity for the
+        whole contact (Spiryagin et al. 2013, CONTACT's modified FASTSIM).
+    k0, alpha_inf, beta : float, default 1.0, 1.0, 0.0
+        Spiryagin's slope reduction (the "modified FASTSIM"; M. Spiryagin, O. Polach & C. Cole,
+        *Creep force modelling for rail traction vehicles based on the Fastsim algorithm*,
+        Vehicle System Dynamics 51 (2013) 1765-1783): the flexibilities divided by
+        k = k0 (α∞ + (1 - α∞)/(1 + β ε)), ε = (π/4) G ab k0 c_jj s_C/(μ N) Polach's gradient
+        of the tangential stress (Polach 2005; c_jj = |(C11 ξ, C22 η)|/|(ξ, η)|, C11 without
+        creepage, as CONTACT takes C11; s_C and μ at the creep velocity as in
+        :mod:`contact_core.polach`); 0 < k0 <= 1, 0 <= α∞ <= 1, β >= 0. k0 = α∞ = 1 (default):
+        Kalker's FASTSIM. With k0 < 1 the linear range's slope is k0 times FASTSIM's.
 
     Default grid 20×20: it meets the speed budget (about 6 µs per ``solve`` call on the project
-    machine, see ``examples/bench_fastsim.py``); its accuracy against the exact theory is in
-    docs/fastsim.md and docs/accuracy_vs_time.md. Refine (40×40, 80×80) for smoother traction
+    machine, see ``python -m contact_tools.bench_fastsim``); its accuracy against the exact theory
+    is in docs/fastsim.md and docs/accuracy_vs_time.md. Refine (40×40, 80×80) for smoother traction
     maps; the error against the exact theory is then dominated by simplified theory itself.
     """
 
     name = "fastsim"
     code = 3
     default_options = {"nx": 20, "ny": 20, "bound": "parabolic", "scheme": "kalker",
-                       "flexibility": "blended", "fields": False}
+                       "flexibility": "blended", "fields": False, "falling": "local",
+                       "k0": 1.0, "alpha_inf": 1.0, "beta": 0.0}
 
     def _check_options(self) -> None:
         o = self.options
@@ -545,6 +573,15 @@ class Fastsim(ContactMethod):
         choice_option(o, "scheme", tuple(SCHEMES))
         choice_option(o, "flexibility", FLEXIBILITIES)
         bool_option(o, "fields")
+        choice_option(o, "falling", FALLING_MODES)
+        self._k0 = float_option(o, "k0", 0.0, 1.0, lo_open=True)
+        self._alpha_inf = float_option(o, "alpha_inf", 0.0, 1.0)
+        self._beta = float_option(o, "beta", 0.0, math.inf, hi_open=True)
+        self._reduce = not (self._k0 == 1.0 and self._alpha_inf == 1.0)
+        self._falling_local = self.friction is not None and o["falling"] == "local"
+        if self._falling_local:
+            from .fastsim_falling import kernel   # only with the effect: its own kernel
+            self._kern_falling = kernel()
         self._nx = self.options["nx"]
         self._ny = self.options["ny"]
         self._elliptic = self.options["bound"] == "elliptic"
@@ -569,20 +606,33 @@ class Fastsim(ContactMethod):
         if not self._saturate and self._mode in (_BLENDED, _BLENDED_CONTACT):
             self._mode = _SEPARATE
         self._kern, self._flex = _kernels()
+        self._coefficients = per_call_coefficients(eff.varying_geometry)
 
     def _step_impl(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
-                   b: float, G: float, nu: float,
-                   warm_start: ContactResult | None) -> ContactResult:
-        c11, c22, c23, c33 = creep_coefficients(a / b, nu)
-        k1, k2, k3, k3x, r21 = self._flex(a, b, G, mu, N, xi, eta, phi, c11, c22, c23, c33,
-                                          self._mode, self._share_power, self._moment_power)
+                   b: float, G: float, nu: float, warm_start: ContactResult | None,
+                   rolling: Rolling | None = None) -> ContactResult:
+        c11, c22, c23, c33 = self._coefficients(a / b, nu)
+        k1, k2, k3, k3x, r21, lx = self._flex(a, b, G, mu, N, xi, eta, phi, c11, c22, c23,
+                                              c33, self._mode, self._share_power,
+                                              self._moment_power)
+        if self._reduce:
+            mu_c = mu if rolling is None else mu * ratio_of(
+                self._law, creep_velocity(rolling.V, xi, eta, phi, a))
+            k = self._slope_factor(xi, eta, phi, N, mu_c, a, b, G, c11, c22)
+            k1, k2, k3, k3x, lx = k1 * k, k2 * k, k3 * k, k3x * k, lx / k
         g0 = mu * N * self._g_factor / (a * b)
         nx, ny = self._nx, self._ny
         out = np.empty((7, ny, nx)) if self._fields else None
-        fx, fy, mz, a_slip, a_tot = self._kern(
-            a, b, xi, eta, phi, k1, k2, k3, k3x, r21, g0, self._profile, self._elliptic, nx, ny,
-            self._first, self._spin_at,
-            self._do_x, self._do_y, self._do_mz, self._saturate, out)
+        if rolling is not None and rolling.V > 0.0:
+            fx, fy, mz, a_slip, a_tot = self._kern_falling(
+                a, b, xi, eta, phi, k1, k2, k3, k3x, r21, lx, g0, self._profile,
+                self._elliptic, nx, ny, self._first, self._spin_at, self._do_x, self._do_y,
+                self._do_mz, self._law, rolling.V, rolling.memory, out)
+        else:
+            fx, fy, mz, a_slip, a_tot = self._kern(
+                a, b, xi, eta, phi, k1, k2, k3, k3x, r21, g0, self._profile, self._elliptic,
+                nx, ny, self._first, self._spin_at,
+                self._do_x, self._do_y, self._do_mz, self._saturate, out)
         eff = self.effects
         fields = None
         if out is not None:
@@ -592,3 +642,14 @@ class Fastsim(ContactMethod):
                            fy if eff.lateral else 0.0,
                            mz if eff.spin else 0.0,
                            self.name, a_slip / a_tot if a_tot > 0.0 else 0.0, fields)
+
+    def _slope_factor(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
+                      b: float, G: float, c11: float, c22: float) -> float:
+        """Spiryagin et al. 2013's k = k0 (α∞ + (1 - α∞)/(1 + β ε)) (option ``k0``)."""
+        if not self._saturate:
+            return self._k0                    # μ -> ∞: ε = 0
+        s = math.hypot(xi, eta)
+        cjj = math.hypot(c11 * xi, c22 * eta) / s if s > 0.0 else c11
+        s_c = creep_velocity(1.0, xi, eta, phi, a)
+        eps = 0.25 * math.pi * G * a * b * self._k0 * cjj * s_c / (mu * N)
+        return self._k0 * (self._alpha_inf + (1.0 - self._alpha_inf) / (1.0 + self._beta * eps))

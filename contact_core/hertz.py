@@ -20,15 +20,32 @@ K = R_F(0,g²,1), K - E = (m/3) R_D(0,g²,1)), which gives the curvature ratio a
 
 The ratio equation is solved once per geometry for g with Brent's method (``scipy.optimize.brentq``)
 in ln g; then α, β ∝ N^{1/3}, δ ∝ N^{2/3} (Kalker 1979 sec. 2).
+
+A geometry that changes at every step (a contact point moving over curved profiles) cannot
+afford a root-finding per step. The load-independent solution depends on the curvature
+ratio q = B'/A' >= 1 alone, so it is tabulated once: with the same Carlson form, ln q and
+(1/3) ln(R_D/(2π)) are explicit functions of g, evaluated on nodes uniform in ln g over the
+supported ratios, and scipy's interpolating quintic spline (``make_interp_spline``, k = 5,
+not-a-knot) through (ln q, ln g) and (ln q, (1/3) ln(R_D/(2π))) gives, per call,
+
+    α = exp((1/3) ln(R_D/(2π))) (N/(E* A'))^{1/3},   β = g α.
+
+:func:`tabulated_patch` evaluates it (one interval search and two polynomials; compiled by
+:func:`patch_kernel`); it agrees with :func:`hertz_geometry`'s root within a few units of the
+last digit (``TABULATED_RTOL``, tests).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
+import numpy as np
+from scipy.interpolate import BSpline, PPoly, make_interp_spline
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipkm1, elliprd, elliprf
 
+from .cache import compiled_with_data
 from .material import contact_modulus
 
 #: Supported range of the curvature ratio A/B.
@@ -145,6 +162,73 @@ def hertz_geometry(A: float, B: float, E: float, nu: float) -> HertzGeometry:
     kd = 3.0 * float(ellipkm1(g * g)) / (2.0 * math.pi * k_major * e_star)
     ka, kb = (k_major, k_minor) if A <= B else (k_minor, k_major)
     return HertzGeometry(ka, kb, kd)
+
+
+#: Nodes of the tabulated solution (uniform in ln g), and its accuracy against the root of
+#: :func:`hertz_geometry`, relative, in a and b over ``CURVATURE_RATIO_RANGE`` (tests): with
+#: 400 nodes the interpolation error is below the root's rounding.
+_TABLE_NODES = 400
+TABULATED_RTOL = 1e-14
+
+
+def _tabulate(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The breakpoints in ln q and per interval the coefficients (power 5 .. 0 of the distance
+    to its breakpoint) of ln g and of (1/3) ln(R_D(0, g², 1)/(2π)) (module docstring)."""
+    g_end = _axis_ratio(max(CURVATURE_RATIO_RANGE[1], 1.0 / CURVATURE_RATIO_RANGE[0])) ** 1.01
+    ln_g = np.linspace(0.0, math.log(g_end), n)
+    g2 = np.exp(2.0 * ln_g)
+    rf, rd = elliprf(0.0, g2, 1.0), elliprd(0.0, g2, 1.0)
+    # B'/A' = (3 R_F/R_D - 1)/g² (ellipse_curvatures with α = 1, β = g); exactly 0 at g = 1
+    ln_q = np.log(3.0 * rf / rd - 1.0) - 2.0 * ln_g
+    ln_q[0] = 0.0
+    spline = make_interp_spline(ln_q, np.stack([ln_g, np.log(rd / (2.0 * math.pi)) / 3.0], 1),
+                                k=5)
+    polys = [PPoly.from_spline(BSpline(spline.t, spline.c[:, j], 5)) for j in range(2)]
+    keep = np.flatnonzero(np.diff(polys[0].x) > 0)      # the end knots repeat: empty intervals
+    pieces = np.stack([p.c[:, keep].T for p in polys], axis=1)   # (interval, function, power)
+    return np.ascontiguousarray(polys[0].x[keep]), np.ascontiguousarray(pieces)
+
+
+_LN_Q, _PIECES = _tabulate(_TABLE_NODES)
+_RATIO_LO, _RATIO_HI = CURVATURE_RATIO_RANGE
+
+
+def tabulated_patch(N: float, A: float, B: float, e_star: float) -> tuple[float, float, float]:
+    """Hertz's semi-axes ``a`` (x), ``b`` (y), m, and peak pressure ``p0``, Pa, for the load
+    ``N`` (0 < N < inf), relative curvatures ``A``, ``B`` (1/m) and contact modulus ``e_star``
+    (Pa) from the tabulated solution (module docstring); (nan, nan, nan) where A, B are not
+    finite, not positive (no Hertz patch: a contact with A <= 0 or B <= 0 is not Hertzian), or
+    their ratio is outside ``CURVATURE_RATIO_RANGE`` (the caller says which). Written for numba
+    (:func:`patch_kernel`)."""
+    if not (0.0 < A < math.inf and 0.0 < B < math.inf and _RATIO_LO <= A / B <= _RATIO_HI):
+        return math.nan, math.nan, math.nan
+    small = A if A <= B else B
+    x = math.log((B if A <= B else A) / small)
+    i = min(int(np.searchsorted(_LN_Q, x, side="right")) - 1, _LN_Q.shape[0] - 1)
+    dx = x - _LN_Q[i]
+    p = _PIECES[i]
+    ln_g = ((((p[0, 0] * dx + p[0, 1]) * dx + p[0, 2]) * dx + p[0, 3]) * dx + p[0, 4]) * dx \
+        + p[0, 5]
+    ln_k = ((((p[1, 0] * dx + p[1, 1]) * dx + p[1, 2]) * dx + p[1, 3]) * dx + p[1, 4]) * dx \
+        + p[1, 5]
+    major = math.exp(ln_k) * (N / (e_star * small)) ** (1.0 / 3.0)
+    minor = math.exp(ln_g) * major
+    a, b = (major, minor) if A <= B else (minor, major)
+    return a, b, 1.5 * (N / (math.pi * a * b))      # max_pressure's arithmetic
+
+
+_PATCH_KERNEL = None
+
+
+def patch_kernel() -> Callable[[float, float, float, float], tuple[float, float, float]]:
+    """:func:`tabulated_patch` compiled by numba (on first use; cached on disk and checked,
+    :func:`~contact_core.cache.compiled_with_data`)."""
+    global _PATCH_KERNEL
+    if _PATCH_KERNEL is None:
+        e_star = contact_modulus(210e9, 0.28)
+        samples = [(1e5, 1.0, q, e_star) for q in (1.0, 1.7, 40.0, 999.0)]
+        _PATCH_KERNEL = compiled_with_data(tabulated_patch, samples)
+    return _PATCH_KERNEL
 
 
 def hertz(N: float, A: float, B: float, E: float, nu: float) -> HertzPatch:

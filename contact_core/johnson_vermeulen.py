@@ -54,7 +54,7 @@ from scipy.special import elliprd, elliprf
 
 from .cache import cached
 from .base import ContactMethod, choice_option
-from .coefficients import creep_coefficients
+from .coefficients import per_call_coefficients
 from .hertz import held_spin_moment
 from .result import make_result
 
@@ -100,10 +100,11 @@ class JohnsonVermeulen(ContactMethod):
         choice_option(self.options, "spin", SPIN_MODES)
         self._original = self.options["variant"] == "original"
         self._use_spin = self.options["spin"] == "she"
+        self._coefficients = per_call_coefficients(self.effects.varying_geometry)
 
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         r = a / b
-        c11, c22, c23, c33 = creep_coefficients(r, nu)
+        c11, c22, c23, c33 = self._coefficients(r, nu)
         if self._original:
             c11, c22 = jv_creep_coefficients(r, nu)
         if not self._use_spin:

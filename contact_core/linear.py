@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 
 from .base import ContactMethod
-from .coefficients import creep_coefficients
+from .coefficients import per_call_coefficients
 from .result import make_result
 
 
@@ -26,8 +26,11 @@ class LinearTheory(ContactMethod):
     default_options: dict = {}
     saturates = False
 
+    def _check_options(self) -> None:
+        self._coefficients = per_call_coefficients(self.effects.varying_geometry)
+
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
-        c11, c22, c23, c33 = creep_coefficients(a / b, nu)
+        c11, c22, c23, c33 = self._coefficients(a / b, nu)
         c2 = a * b
         c = math.sqrt(c2)
         eff = self.effects

@@ -5,12 +5,20 @@ The shipped scenes live in ``contact_core/scenes/*.toml``:
 
 ``traction``
     straight track, traction/braking: ``longitudinal`` + ``saturation``.
+``traction_falling``
+    the same with ``falling_friction``: the adhesion curve's falling branch beyond its peak
+    (wheel slip, slip control, wheel-slide protection); default method ``polach``.
 ``tangent_track``
     small-amplitude hunting: ``longitudinal``, ``lateral``, ``spin`` (linear range, no saturation).
 ``curving``
     every effect.
 ``full``
     every effect; the default scene.
+``vehicle``
+    every effect of ``full`` and ``varying_geometry``: the patch geometry is an input at every
+    step (the curvatures A, B at the contact point, or with ``build-fmu --geometry-input
+    semi_axes`` the host's own semi-axes a, b), for a vehicle model whose contact point moves
+    over the wheel and rail profiles.
 
 File format (every key but ``effects`` optional)::
 
@@ -21,7 +29,8 @@ File format (every key but ``effects`` optional)::
 ``default_method`` may list several methods in order of preference; the first one registered in
 :data:`contact_core.METHODS` when the scene is loaded is used, so a scene can prefer a method that
 another part of the library adds later. ``variable_friction`` (μ is a time-varying input) needs
-``saturation``: without saturation μ does not enter the result.
+``saturation``: without saturation μ does not enter the result. ``varying_geometry`` goes with any
+other effects (it changes where the geometry comes from, not what is computed).
 
     >>> import contact_core as cc
     >>> s = cc.load_scene("traction")
@@ -92,9 +101,14 @@ def parse_scene(text: str, name: str) -> Scene:
         effects = Effects.from_names(effects_spec)
     except ValueError as e:
         raise ValueError(f"scene {name!r}: {e}") from None
-    if effects.variable_friction and not effects.saturation:
-        raise ValueError(f"scene {name!r}: effect 'variable_friction' needs 'saturation' "
-                         "(without saturation the friction coefficient does not enter the result)")
+    for needs in ("variable_friction", "falling_friction"):
+        if getattr(effects, needs) and not effects.saturation:
+            raise ValueError(f"scene {name!r}: effect {needs!r} needs 'saturation' (without "
+                             "saturation the friction coefficient does not enter the result)")
+    if effects.falling_friction and effects.varying_geometry:
+        # the evaluator of a varying geometry takes no rolling speed (yet)
+        raise ValueError(f"scene {name!r}: effects 'falling_friction' and 'varying_geometry' "
+                         "together are not supported: allowed one of them")
     description = data.get("description", "")
     if not isinstance(description, str):
         raise ValueError(f"scene {name!r}: description must be a string")

@@ -7,7 +7,17 @@ its defaults and range checks from here, and the FMU (``wheel_rail_fmu.model_des
 declares exactly :func:`scene_variables`, so a scene exposes only the variables of its effects.
 
 The friction coefficient ``mu`` is an input with ``variable_friction``, a parameter with
-``saturation`` alone, and absent without saturation (it does not enter the result).
+``saturation`` alone, and absent without saturation (it does not enter the result). With
+``falling_friction`` it is the static coefficient of the law whose parameters ``friction_*`` are,
+and the rolling speed ``V`` is an input.
+
+With ``varying_geometry`` the patch geometry is an input at every step and the fixed radii
+``R_wheel``, ``R_wheel_profile``, ``R_rail_profile`` are absent: by default
+(``geometry_input="curvatures"``) the relative curvatures ``A``, ``B`` of the two surfaces at the
+contact point, from which the contact solves Hertz's patch (outputs ``a``, ``b``, ``p0``); with
+``geometry_input="semi_axes"`` the semi-axes ``a``, ``b`` themselves, which are then inputs (for
+a host that computes its own patch; ``p0`` stays an output). The outputs of the patch and
+``method_used`` then depend on the geometry inputs too.
 Sign convention of the outputs: Kalker 1979 sec. 2 (forces of the rail on the wheel).
 """
 from __future__ import annotations
@@ -16,6 +26,7 @@ import math
 from dataclasses import dataclass, replace
 
 from .effects import Effects
+from .friction import DEFAULT_LAW, KINDS, FrictionLaw
 
 _INF = math.inf
 
@@ -77,6 +88,20 @@ VARIABLES: tuple[Variable, ...] = (
              _finite("normal load, N; N <= 0 means the wheel is lifted")),
     Variable("mu", "input", "Real", "1", "Friction coefficient", "saturation", 0.3,
              Range(0.0, _INF, False, True, "friction coefficient")),
+    Variable("V", "input", "Real", "m/s", "Rolling speed: the slip velocity is the creepage "
+             "times |V| (0: static friction throughout)", "falling_friction", 0.0,
+             _finite("rolling speed, m/s")),
+    # varying_geometry; defaults: the curvatures of the default radii R_wheel and R_rail_profile
+    Variable("A", "input", "Real", "1/m", "Relative curvature of wheel and rail along the "
+             "rolling direction x at the contact point (gap h = A x^2 + B y^2)",
+             "varying_geometry", 0.5 / 0.46,
+             Range(0.0, _INF, True, True, "relative curvature along the rolling direction x, 1/m; "
+                   "A <= 0 is not Hertzian")),
+    Variable("B", "input", "Real", "1/m", "Relative curvature of wheel and rail across the "
+             "rolling direction (y) at the contact point (gap h = A x^2 + B y^2)",
+             "varying_geometry", 0.5 / 0.3,
+             Range(0.0, _INF, True, True, "relative curvature along the lateral direction y, 1/m; "
+                   "B <= 0 is not Hertzian")),
     Variable("Fx", "output", "Real", "N", "Longitudinal creep force of the rail on the wheel "
              "(Kalker's sign convention)", "longitudinal"),
     Variable("Fy", "output", "Real", "N", "Lateral creep force of the rail on the wheel "
@@ -104,6 +129,18 @@ VARIABLES: tuple[Variable, ...] = (
     Variable("R_rail_profile", "parameter", "Real", "m", "Rail crown radius at the contact "
              "(convex positive; 0: straight); 1/R_wheel_profile + 1/R_rail_profile > 0", None,
              0.3),
+    # the law of contact_core.friction (mu is its static coefficient), its defaults
+    Variable("friction_law", "parameter", "String", None, "Falling friction law: "
+             "'exponential', 'rational' or 'linear' (CONTACT's L = 4, 3, 2)", "falling_friction",
+             DEFAULT_LAW.kind),
+    Variable("friction_kinetic_ratio", "parameter", "Real", "1", "Kinetic over static friction "
+             "coefficient, the limit at large slip velocity (Polach's A)", "falling_friction",
+             DEFAULT_LAW.kinetic,
+             Range(0.0, 1.0, False, False, "kinetic over static friction coefficient")),
+    Variable("friction_slip_half", "parameter", "Real", "m/s", "Slip velocity at which the "
+             "falling part of the friction is halved (exponential law: ln 2 / Polach's B)",
+             "falling_friction", DEFAULT_LAW.s_half,
+             Range(0.0, _INF, True, True, "slip velocity halving the falling part, m/s")),
 )
 #: Variables by name.
 BY_NAME = {v.name: v for v in VARIABLES}
@@ -124,10 +161,63 @@ def check(name: str, value: float) -> float:
     return value
 
 
-def scene_variables(effects: Effects) -> tuple[Variable, ...]:
-    """The variables of a contact computing ``effects`` (see the module docstring for mu)."""
+def friction_law(kind: str, kinetic_ratio: float, slip_half: float) -> FrictionLaw:
+    """The law of the parameters ``friction_law``, ``friction_kinetic_ratio`` and
+    ``friction_slip_half`` (effect ``falling_friction``); ``ValueError`` names the parameter."""
+    if not isinstance(kind, str) or kind not in KINDS:
+        raise ValueError(f"friction_law={kind!r} is invalid: allowed "
+                         + " or ".join(repr(k) for k in KINDS))
+    return FrictionLaw(kind, check("friction_kinetic_ratio", kinetic_ratio),
+                       check("friction_slip_half", slip_half))
+
+
+#: How the geometry comes in with ``varying_geometry`` (module docstring); the first is the default.
+GEOMETRY_INPUTS = ("curvatures", "semi_axes")
+#: The parameters of a fixed geometry (absent with ``varying_geometry``).
+FIXED_GEOMETRY = ("R_wheel", "R_wheel_profile", "R_rail_profile")
+#: The semi-axes as inputs (``geometry_input="semi_axes"``): their ranges, and start values
+#: (about the Hertz patch of the default curvatures under 100 kN).
+SEMI_AXES = {"a": (Range(0.0, _INF, True, True, "semi-axis along the rolling direction x, m"),
+                   7e-3),
+             "b": (Range(0.0, _INF, True, True, "semi-axis along the lateral direction y, m"),
+                   5.4e-3)}
+
+
+def geometry_names(geometry_input: str) -> tuple[str, str]:
+    """The two geometry inputs of ``geometry_input`` (``GEOMETRY_INPUTS``), or ``ValueError``."""
+    if geometry_input == "curvatures":
+        return ("A", "B")
+    if geometry_input == "semi_axes":
+        return ("a", "b")
+    raise ValueError(f"geometry_input={geometry_input!r} is invalid: allowed "
+                     + " or ".join(map(repr, GEOMETRY_INPUTS)))
+
+
+def _varying_geometry(v: Variable, geometry: tuple[str, str]) -> Variable | None:
+    """``v`` as a contact with ``varying_geometry`` and the geometry inputs ``geometry`` has it
+    (module docstring), None if it has not."""
+    if v.name in FIXED_GEOMETRY or (v.name in ("A", "B") and v.name not in geometry):
+        return None
+    if v.name in geometry and v.causality == "output":        # a, b as inputs
+        rng, start = SEMI_AXES[v.name]
+        return replace(v, causality="input", default=start, range=rng, depends=None,
+                       description=v.description + " (computed by the host)")
+    if v.causality == "output" and v.depends is not None:      # the patch and method_used
+        return replace(v, depends=v.depends + geometry)
+    return v
+
+
+def scene_variables(effects: Effects,
+                    geometry_input: str = GEOMETRY_INPUTS[0]) -> tuple[Variable, ...]:
+    """The variables of a contact computing ``effects`` (see the module docstring for mu and
+    the geometry; ``geometry_input`` matters only with ``varying_geometry``)."""
+    geometry = geometry_names(geometry_input)
     out = []
     for v in VARIABLES:
+        if effects.varying_geometry:
+            v = _varying_geometry(v, geometry)
+            if v is None:
+                continue
         if v.name == "mu":
             if effects.variable_friction:
                 out.append(replace(v, description=v.description + " (time-varying)"))

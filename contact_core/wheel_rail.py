@@ -1,4 +1,5 @@
-"""One wheel–rail contact evaluated step after step: geometry and material fixed, load varying.
+"""One wheel–rail contact evaluated step after step: material fixed, load varying, geometry
+fixed (:class:`WheelRailConfig`) or given at every step (:class:`VaryingGeometryConfig`).
 
 This is what the FMU (``fmu_src/``) wraps. A :class:`WheelRailConfig` fixes the method, the effects,
 the material and the radii; :class:`WheelRailEvaluator` validates it once, solves the
@@ -18,6 +19,18 @@ passes it as ``warm_start`` to the next step, so iterative methods start from th
 Closed-form methods ignore it. Outputs therefore equal the chain
 ``r_k = solve(..., warm_start=r_{k-1})`` over the loaded steps.
 
+Geometry at every step (the effect ``varying_geometry``: a contact point that moves over curved
+profiles): :class:`VaryingGeometryConfig` has no radii, and :class:`VaryingGeometryEvaluator`
+takes at every call (:meth:`VaryingGeometryEvaluator.evaluate`) the relative curvatures A, B
+(Hertz's patch from the tabulated load-independent solution, :func:`~contact_core.hertz.
+tabulated_patch`, compiled) or, with ``geometry_input="semi_axes"``, the caller's own semi-axes
+a, b. Its methods are made with the effect, so
+they compute what depends on a/b per call (the same results as ``solve``). Geometry that is not
+finite, or impossible (A <= 0 or B <= 0: not Hertzian; A/B outside ``CURVATURE_RATIO_RANGE``; a
+semi-axis <= 0), is a ``ValueError`` naming the input and its range, and the evaluator keeps its
+state. With ``N <= 0`` (lifted) the geometry must be finite and is otherwise not used (a
+contact search that found no contact may pass anything finite).
+
     >>> import contact_core as cc
     >>> ev = cc.WheelRailEvaluator(cc.WheelRailConfig(method="johnson_vermeulen"))
     >>> r = ev.evaluate(xi=1e-3, eta=0.0, phi=0.0, N=100e3, mu=0.3)
@@ -31,12 +44,16 @@ from dataclasses import dataclass
 from typing import Any, Mapping
 
 from .api import METHODS, make_solver
-from .base import check_inputs
+from .base import _speed, check_inputs
 from .effects import ALL_EFFECTS, Effects, as_effects
-from .hertz import HertzPatch, hertz_geometry, max_pressure, wheel_rail_curvatures
+from .friction import FrictionLaw
+from .hertz import (CURVATURE_RATIO_RANGE, HertzPatch, hertz_geometry, max_pressure,
+                    patch_kernel, wheel_rail_curvatures)
+from .material import contact_modulus
 from .material import shear_modulus
 from .result import ContactResult, make_result
-from .variables import DEFAULTS, check, out_of_range
+from .variables import (BY_NAME, DEFAULTS, GEOMETRY_INPUTS, SEMI_AXES, check, geometry_names,
+                        out_of_range)
 
 #: The patch of a lifted wheel (N <= 0).
 LIFTED_PATCH = HertzPatch(0.0, 0.0, 0.0, 0.0)
@@ -67,6 +84,9 @@ class WheelRailConfig:
         Rail-crown radius, m (convex positive; 0 or inf: straight).
     options : mapping
         Options of the method (its ``default_options`` keys), e.g. ``{"variant": "original"}``.
+    friction : FrictionLaw or None
+        The law of the effect ``falling_friction`` (None: ``FrictionLaw()``; ``mu`` is its
+        static coefficient); :meth:`WheelRailEvaluator.evaluate` then takes the rolling speed.
 
     Defaults and allowed ranges: :data:`contact_core.variables.VARIABLES`.
     """
@@ -80,6 +100,7 @@ class WheelRailConfig:
     R_wheel_profile: float = DEFAULTS["R_wheel_profile"]
     R_rail_profile: float = DEFAULTS["R_rail_profile"]
     options: Mapping[str, Any] | tuple[tuple[str, Any], ...] = ()
+    friction: FrictionLaw | None = None
 
     def __post_init__(self) -> None:
         # Hashable and order-independent: options are kept as sorted (name, value) pairs.
@@ -91,6 +112,9 @@ class WheelRailConfig:
         """Raise ``ValueError`` naming the first invalid parameter and its allowed range."""
         if self.method not in METHODS:
             raise ValueError(f"method={self.method!r} is unknown: allowed {list(METHODS)}")
+        if self.effects.varying_geometry:
+            raise ValueError("effects: 'varying_geometry' takes the geometry at every step, "
+                             "WheelRailConfig's radii are fixed: use VaryingGeometryConfig")
         for name in ("mu", "E", "nu", "R_wheel"):
             check(name, getattr(self, name))
         A, B = self.curvatures()
@@ -128,7 +152,8 @@ class WheelRailEvaluator:
         except ValueError as e:  # the curvature ratio: name the radii it comes from
             raise ValueError(f"R_wheel, R_wheel_profile, R_rail_profile: {e} (the relative "
                              f"curvatures A={A!r}, B={B!r} 1/m)") from None
-        self.solver = make_solver(config.method, config.effects, **dict(config.options))
+        self.solver = make_solver(config.method, config.effects, config.friction,
+                                  **dict(config.options))
         self.G = shear_modulus(config.E, config.nu)
         self.nu = config.nu
         self.mu = config.mu
@@ -141,20 +166,29 @@ class WheelRailEvaluator:
         self.last: ContactResult | None = None
 
     def evaluate(self, xi: float, eta: float, phi: float, N: float,
-                 mu: float | None = None) -> ContactResult:
+                 mu: float | None = None, V: float | None = None) -> ContactResult:
         """Forces of one step: creepages ``xi, eta`` (1), spin ``phi`` (1/m), load ``N`` (N),
-        friction ``mu`` (the configuration's when None). ``N <= 0``: zero forces (wheel lifted).
+        friction ``mu`` (the configuration's when None), rolling speed ``V`` (m/s; with the
+        effect ``falling_friction``, None: 0, static friction). ``N <= 0``: zero forces (wheel
+        lifted).
 
         Also sets ``self.a``, ``self.b`` (m) and ``self.p0`` (Pa) of the step's Hertz patch.
         """
         if mu is None:
             mu = self.mu
+        if V is not None and self.solver.friction is None:
+            if V:
+                raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
+                                 "selected: allowed None or 0, or select the effect")
+            V = None
         if 0.0 < N < _INF:
             # HertzGeometry.patch(N) without building a HertzPatch per step (same arithmetic).
             s = N ** _THIRD
             a = self._ka * s
             b = self._kb * s
-            result = self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last)
+            result = (self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last)
+                      if V is None else
+                      self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last, V))
             if not math.isfinite(result.Fx + result.Fy + result.Mz):  # a method's bug, never ours
                 raise FloatingPointError(
                     f"method {result.method!r} returned non-finite forces (Fx={result.Fx!r}, "
@@ -169,6 +203,8 @@ class WheelRailEvaluator:
             return result
         if -_INF < N <= 0.0:
             check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
+            if V is not None:
+                _speed(V)
             self.a = self.b = self.p0 = 0.0
             self.method_code = self._code
             return self._lifted
@@ -194,15 +230,179 @@ class WheelRailEvaluator:
             if not math.isclose(value, expected, rel_tol=1e-12):
                 raise ValueError(f"{name}={value!r} is not the Hertz patch of N={N!r}: "
                                  f"allowed {name}={expected!r}")
-        if not 0.0 <= slip_fraction <= 1.0:
-            raise ValueError(f"slip_fraction={slip_fraction!r} is out of range: allowed "
-                             "0 <= slip_fraction <= 1")
-        force = math.hypot(Fx, Fy)
-        if N <= 0.0:
-            if force != 0.0:
-                raise ValueError(f"Fx={Fx!r}, Fy={Fy!r} with N={N!r}: allowed zero forces for "
-                                 "a lifted wheel (N <= 0)")
-        elif (self.config.effects.saturation and self.solver.saturates
-              and not force <= mu * N):
-            raise ValueError(f"Fx={Fx!r}, Fy={Fy!r}: |(Fx, Fy)| = {force!r} N is out of range: "
-                             f"allowed at most mu*N = {mu * N!r} N (mu={mu!r}, N={N!r})")
+        _check_law(self.config.effects.saturation and self.solver.saturates, N, mu, Fx, Fy,
+                   slip_fraction)
+
+
+def _check_law(saturating: bool, N: float, mu: float, Fx: float, Fy: float,
+               slip_fraction: float) -> None:
+    """The part of ``check_outputs`` that is not the patch: ``slip_fraction`` in [0, 1], zero
+    forces when lifted, and |(Fx, Fy)| <= μN for a ``saturating`` method (Coulomb's law, Kalker
+    1979 eq 5, which every method's step keeps)."""
+    if not 0.0 <= slip_fraction <= 1.0:
+        raise ValueError(f"slip_fraction={slip_fraction!r} is out of range: allowed "
+                         "0 <= slip_fraction <= 1")
+    force = math.hypot(Fx, Fy)
+    if N <= 0.0:
+        if force != 0.0:
+            raise ValueError(f"Fx={Fx!r}, Fy={Fy!r} with N={N!r}: allowed zero forces for "
+                             "a lifted wheel (N <= 0)")
+    elif saturating and not force <= mu * N:
+        raise ValueError(f"Fx={Fx!r}, Fy={Fy!r}: |(Fx, Fy)| = {force!r} N is out of range: "
+                         f"allowed at most mu*N = {mu * N!r} N (mu={mu!r}, N={N!r})")
+
+
+#: The default effects of a contact whose geometry is an input: every effect of ``ALL_EFFECTS``.
+VARYING_GEOMETRY_EFFECTS = Effects(varying_geometry=True)
+
+
+@dataclass(frozen=True)
+class VaryingGeometryConfig:
+    """Fixed data of one wheel–rail contact whose geometry is an input at every step (the effect
+    ``varying_geometry``; SI units): the method, the effects, the friction coefficient used
+    when a call gets none, Young's modulus ``E`` (Pa) and Poisson's ratio ``nu`` of both
+    bodies, the method's ``options``, and what the geometry at a call is, ``geometry_input``
+    (:data:`contact_core.variables.GEOMETRY_INPUTS`): "curvatures", the relative curvatures
+    A, B of the two surfaces at the contact point, of which the evaluator solves Hertz's patch,
+    or "semi_axes", the semi-axes a, b of a patch the caller computes. Defaults and ranges:
+    :data:`contact_core.variables.VARIABLES`."""
+
+    method: str = "johnson_vermeulen"
+    effects: Effects = VARYING_GEOMETRY_EFFECTS
+    mu: float = DEFAULTS["mu"]
+    E: float = DEFAULTS["E"]
+    nu: float = DEFAULTS["nu"]
+    options: Mapping[str, Any] | tuple[tuple[str, Any], ...] = ()
+    geometry_input: str = GEOMETRY_INPUTS[0]
+
+    def __post_init__(self) -> None:
+        items = self.options.items() if isinstance(self.options, Mapping) else self.options
+        object.__setattr__(self, "options", tuple(sorted(items)))
+        object.__setattr__(self, "effects", as_effects(self.effects))
+
+    def check(self) -> None:
+        """Raise ``ValueError`` naming the first invalid parameter and its allowed range."""
+        if self.method not in METHODS:
+            raise ValueError(f"method={self.method!r} is unknown: allowed {list(METHODS)}")
+        if not self.effects.varying_geometry:
+            raise ValueError("effects: VaryingGeometryConfig needs the effect 'varying_geometry' "
+                             "(a fixed geometry: WheelRailConfig)")
+        if self.effects.falling_friction:
+            raise ValueError("effects: 'falling_friction' with 'varying_geometry' is not "
+                             "supported by the evaluator (it takes no rolling speed)")
+        geometry_names(self.geometry_input)
+        for name in ("mu", "E", "nu"):
+            check(name, getattr(self, name))
+
+
+def _semi_axes_patch(N: float, a: float, b: float, e_star: float) -> tuple[float, float, float]:
+    """The patch of semi-axes ``a``, ``b`` (m) under ``N``: Hertz's peak pressure 3N/(2πab)
+    (Kalker 1979 eq 3); (nan, nan, nan) for a semi-axis that is not finite and positive."""
+    if 0.0 < a < _INF and 0.0 < b < _INF:
+        return a, b, 1.5 * (N / (math.pi * a * b))      # max_pressure's arithmetic
+    return math.nan, math.nan, math.nan
+
+
+class VaryingGeometryEvaluator:
+    """Evaluate one contact per simulation step with its geometry given at every step (module
+    docstring). Attributes after a call: ``a``, ``b``, ``p0`` (the step's semi-axes, m, and
+    peak pressure, Pa; 0 when lifted), ``last`` (the last loaded result: the warm start) and
+    ``method_code``."""
+
+    def __init__(self, config: VaryingGeometryConfig) -> None:
+        config.check()
+        self.config = config
+        self.solver = make_solver(config.method, config.effects, **dict(config.options))
+        self.G = shear_modulus(config.E, config.nu)
+        self.nu = config.nu
+        self.mu = config.mu
+        self._e_star = contact_modulus(config.E, config.nu)
+        #: the names of the geometry inputs, and their patch: Hertz's of the curvatures, or the
+        #: caller's semi-axes with Hertz's pressure
+        self.geometry = geometry_names(config.geometry_input)
+        self._curvatures = self.geometry == ("A", "B")
+        self._patch = patch_kernel() if self._curvatures else _semi_axes_patch
+        self.method_code = self._code = METHODS[config.method].code
+        self._name = self.solver.name
+        self._codes = {name: cls.code for name, cls in METHODS.items()}
+        self._lifted = make_result(0.0, 0.0, 0.0, config.method, 0.0)
+        self.a = self.b = self.p0 = 0.0
+        self.last: ContactResult | None = None
+
+    def evaluate(self, xi: float, eta: float, phi: float, N: float, mu: float | None, gx: float,
+                 gy: float) -> ContactResult:
+        """Forces of one step from the creepages ``xi, eta`` (1), spin ``phi`` (1/m), load ``N``
+        (N), friction ``mu`` (None: the configuration's) and the geometry along the rolling
+        direction x and across it, ``gx, gy``: the relative curvatures A, B (1/m) of the two
+        surfaces at the contact point (gap h = A x² + B y²), or with ``geometry_input=
+        "semi_axes"`` the semi-axes a, b (m) of the caller's patch (e.g. a non-Hertzian or
+        multi-Hertzian contact model's). Sets ``a``, ``b``, ``p0``: Hertz's patch of the
+        curvatures, or the caller's with Hertz's peak pressure 3N/(2πab)."""
+        if mu is None:
+            mu = self.mu
+        if 0.0 < N < _INF:
+            a, b, p0 = self._patch(N, gx, gy, self._e_star)
+            if a != a:          # nan: no patch for this geometry
+                raise self._geometry_error(gx, gy)
+            result = self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last)
+            if not math.isfinite(result.Fx + result.Fy + result.Mz):  # a method's bug
+                raise FloatingPointError(
+                    f"method {result.method!r} returned non-finite forces (Fx={result.Fx!r}, "
+                    f"Fy={result.Fy!r}, Mz={result.Mz!r}) for xi={xi!r}, eta={eta!r}, "
+                    f"phi={phi!r}, N={N!r}, mu={mu!r}, a={a!r}, b={b!r}")
+            self.last = result
+            self.a = a
+            self.b = b
+            self.p0 = p0
+            self.method_code = (self._code if result.method is self._name
+                                else self._codes[result.method])
+            return result
+        if -_INF < N <= 0.0:
+            check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
+            for name, v in zip(self.geometry, (gx, gy)):
+                if not math.isfinite(v):
+                    raise ValueError(f"{name}={v!r} is out of range: allowed a finite number "
+                                     "(any finite value while the wheel is lifted, N <= 0)")
+            self.a = self.b = self.p0 = 0.0
+            self.method_code = self._code
+            return self._lifted
+        raise out_of_range("N", N)
+
+    def _geometry_error(self, gx: float, gy: float) -> ValueError:
+        """The error for a geometry without a patch: the first input outside its range, else
+        (curvatures) their ratio."""
+        for name, v in zip(self.geometry, (gx, gy)):
+            rng = BY_NAME[name].range if self._curvatures else SEMI_AXES[name][0]
+            if not rng.contains(v):
+                return ValueError(f"{name}={v!r} is out of range: allowed {rng.text(name)}")
+        lo, hi = CURVATURE_RATIO_RANGE
+        return ValueError(f"A={gx!r}, B={gy!r}: A/B={gx / gy!r} is out of range: allowed "
+                          f"{lo:g} <= A/B <= {hi:g} (the Hertz ellipses supported, semi-axis "
+                          "ratios about 0.015 to 68)")
+
+    def check_outputs(self, N: float, mu: float, Fx: float, Fy: float, a: float, b: float,
+                      p0: float, slip_fraction: float, gx: float, gy: float) -> None:
+        """Raise ``ValueError`` naming the first output that :meth:`evaluate` cannot have given
+        with the geometry ``gx, gy`` (outputs from outside, e.g. a saved FMU state): the patch
+        ``a``, ``b``, ``p0`` must be the one :meth:`evaluate` gives for ``N``, ``gx``, ``gy``
+        (the caller's a, b with ``geometry_input="semi_axes"``), a zero one when lifted
+        (N <= 0); then as ``WheelRailEvaluator.check_outputs``."""
+        if not (-_INF < N < _INF):
+            raise out_of_range("N", N)
+        if N > 0.0:
+            want = self._patch(N, gx, gy, self._e_star)
+            if want[0] != want[0]:
+                raise self._geometry_error(gx, gy)
+            if not self._curvatures:        # the ratio the method would have refused
+                check_inputs(0.0, 0.0, 0.0, N, 0.0, gx, gy, self.G, self.nu)
+        else:
+            want = (0.0, 0.0, 0.0)
+        if not self._curvatures:            # a, b are the caller's
+            want = (a, b, want[2]) if N > 0.0 else (a, b, 0.0)
+        what = ", ".join(f"{n}={v!r}" for n, v in zip(("N",) + self.geometry, (N, gx, gy)))
+        for name, value, expected in zip(("a", "b", "p0"), (a, b, p0), want):
+            if not math.isclose(value, expected, rel_tol=1e-12):
+                raise ValueError(f"{name}={value!r} is not the Hertz patch of {what}: allowed "
+                                 f"{name}={expected!r}")
+        _check_law(self.config.effects.saturation and self.solver.saturates, N, mu, Fx, Fy,
+                   slip_fraction)

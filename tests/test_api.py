@@ -13,6 +13,8 @@ import pytest
 import contact_core as cc
 from conftest import options_for
 
+pytestmark = pytest.mark.unit
+
 METHODS = cc.methods()
 CASES = [  # (xi, eta, phi): linear range, partial slip, near saturation, spin-dominated
     (2e-4, 0.0, 0.0), (1e-3, -5e-4, 0.0), (3e-3, 2e-3, 0.4), (0.0, 1e-4, 2.0), (-1e-3, 2e-4, -0.3),

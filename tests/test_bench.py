@@ -1,4 +1,4 @@
-"""The accuracy-vs-time benchmark (contact_core.bench): case set, smoke run, error metric."""
+"""The accuracy-vs-time benchmark (contact_tools.bench): case set, smoke run, error metric."""
 from __future__ import annotations
 
 import math
@@ -9,17 +9,18 @@ import numpy as np
 import pytest
 
 import contact_core as cc
-from contact_core.bench import Setting, make_cases, run
-from contact_core.bench.cases import REGIMES, load_spec
-from contact_core.bench.reference import REFERENCE_GRIDS
-from contact_core.bench.report import errors
-from contact_core.bench.settings import default_settings
+from contact_tools.bench import Setting, make_cases, run
+from contact_tools.bench.cases import REGIMES, load_spec
+from contact_tools.bench.reference import REFERENCE_GRIDS
+from contact_tools.bench.report import errors
+from contact_tools.bench.settings import default_settings
 
 
 # ---------------------------------------------------------------------------------------------
 # Case set
 # ---------------------------------------------------------------------------------------------
 
+@pytest.mark.unit
 def test_case_set_reproducible_and_spanning():
     spec = load_spec()
     a, b = make_cases("short"), make_cases("short")
@@ -35,6 +36,7 @@ def test_case_set_reproducible_and_spanning():
     assert len(full) == 400 and make_cases("short") == a   # forms are independent streams
 
 
+@pytest.mark.unit
 def test_case_geometry_is_hertz_for_the_fmu_radii():
     for c in make_cases("short")[::7]:
         p = cc.hertz_from_radii(c.N, c.R_wheel, c.R_wheel_profile, c.R_rail_profile, c.E, c.nu)
@@ -42,6 +44,7 @@ def test_case_geometry_is_hertz_for_the_fmu_radii():
         assert c.a / c.b == pytest.approx(c.a_over_b, rel=1e-9)
 
 
+@pytest.mark.unit
 def test_tau_is_the_linear_force_over_mu_n_for_pure_cases():
     # Independent of the case generator: Kalker's linear theory through contact_core.solve.
     for c in make_cases("short"):
@@ -62,6 +65,8 @@ def smoke(tmp_path_factory):
     return res, out
 
 
+@pytest.mark.host
+@pytest.mark.slow
 def test_smoke_writes_table_and_plot(smoke):
     res, out = smoke
     md = (out / "out" / "accuracy_vs_time.md").read_text(encoding="utf-8")
@@ -78,6 +83,8 @@ def test_smoke_writes_table_and_plot(smoke):
         assert re.match(r"^[\d.,]+ \([\d.,]+–[\d.,]+\)$", cells[-1])   # FMU time
 
 
+@pytest.mark.host
+@pytest.mark.slow
 def test_smoke_reports_reference_convergence(smoke):
     res, out = smoke
     md = res.markdown
@@ -94,6 +101,8 @@ def test_smoke_reports_reference_convergence(smoke):
         assert (f"| {c.id} | {c.a_over_b:g} | {c.kind} |" in listed) == (not r.converged)
 
 
+@pytest.mark.host
+@pytest.mark.slow
 def test_smoke_fmu_computes_what_solve_computes(smoke):
     res, _ = smoke
     assert res.t_fmu is not None
@@ -148,6 +157,8 @@ def _independent_reference(c, grids):
     return np.polyfit(x, np.array(q), 1)[1]
 
 
+@pytest.mark.unit
+@pytest.mark.slow
 def test_errors_are_against_the_reference(perturbed):
     res = perturbed
     grids = REFERENCE_GRIDS["short"]
@@ -171,6 +182,8 @@ def test_errors_are_against_the_reference(perturbed):
         assert abs(eF_pert[j] - 0.1 * math.hypot(fx, fy) / fs) <= 1.1 * eF_base[j] + 1e-12
 
 
+@pytest.mark.unit
+@pytest.mark.slow
 def test_a_wrong_direction_shows_at_the_right_magnitude(perturbed):
     # the force turned by 10° keeps its magnitude: only the vector error sees it, as
     # |F_ref| · 2 sin(5°) = 0.174 |F_ref| (up to the 16×16 grid's own error)
@@ -189,6 +202,8 @@ def test_a_wrong_direction_shows_at_the_right_magnitude(perturbed):
         assert magnitude_error <= eF_base[j] + 1e-12
 
 
+@pytest.mark.unit
+@pytest.mark.slow
 def test_perturbation_shows_in_the_table(perturbed):
     res = perturbed
     st = {(s.label, s.regime): s for s in res.stats}
@@ -205,11 +220,12 @@ def test_perturbation_shows_in_the_table(perturbed):
     assert "exact 16×16 ×1.1" in res.markdown
 
 
+@pytest.mark.unit
 def test_reference_takes_any_executor():
     # the sweep only needs submit() + futures: a thread pool (or Dask's client.get_executor())
     from concurrent.futures import ThreadPoolExecutor
 
-    from contact_core.bench.reference import compute_references
+    from contact_tools.bench.reference import compute_references
     cases = make_cases("smoke")[:3]
     inline = compute_references(cases, (12, 16, 20), progress=False)
     with ThreadPoolExecutor(2) as ex:
@@ -218,10 +234,11 @@ def test_reference_takes_any_executor():
         [(r.Fx, r.Fy, r.Mz, r.u_F) for r in pooled]
 
 
+@pytest.mark.unit
 def test_reference_solutions_are_kept_and_reused(tmp_path, monkeypatch):
     # a rerun with the same cases reuses the kept grid solutions (data only) and gives the same
     # references; other cases are solved anew
-    from contact_core.bench import reference
+    from contact_tools.bench import reference
     cases = make_cases("smoke")[:3]
     first = reference.compute_references(cases, (12, 16, 20), progress=False, cache=tmp_path)
     assert len(list(tmp_path.glob("reference_*.npz"))) == 1
@@ -236,13 +253,14 @@ def test_reference_solutions_are_kept_and_reused(tmp_path, monkeypatch):
         reference.compute_references(cases[:2], (12, 16, 20), progress=False, cache=tmp_path)
 
 
+@pytest.mark.unit
 def test_held_out_references_are_solved_again_when_the_exact_solver_changes(tmp_path,
                                                                              monkeypatch):
     # the table check's references (held-out sets) are kept like the benchmark's, named by the
     # exact solver's source: kept ones once outlived a change of its spin discretisation
-    from contact_core.bench import reference
-    from contact_core.table import check
-    from contact_core.table.build import AXES
+    from contact_tools.bench import reference
+    from contact_tools.table import check
+    from contact_tools.table.build import AXES
     monkeypatch.setattr(check, "GRIDS", (12, 16, 20))
     cases = check.spin_cases(2, 1, AXES["full"])
     first, seconds = check.references(cases, workers=1, progress=False, folder=tmp_path)
@@ -262,10 +280,11 @@ def test_held_out_references_are_solved_again_when_the_exact_solver_changes(tmp_
     assert len(list(tmp_path.glob("reference_*.npz"))) == 2
 
 
+@pytest.mark.unit
 def test_kept_solutions_are_named_by_the_solve_task_and_the_file_layout(tmp_path, monkeypatch):
-    # of contact_core.bench.reference only the code that makes or reads a kept file names it:
+    # of contact_tools.bench.reference only the code that makes or reads a kept file names it:
     # a changed solve task (or reader, writer) computes the solutions anew
-    from contact_core.bench import reference
+    from contact_tools.bench import reference
     kwargs, grids = [{"xi": 1e-3, "eta": 0.0}], (12, 16, 20)
     name = reference._cache_file(tmp_path, kwargs, grids)
     assert reference._cache_file(tmp_path, kwargs, grids) == name
@@ -276,16 +295,17 @@ def test_kept_solutions_are_named_by_the_solve_task_and_the_file_layout(tmp_path
     assert reference._cache_file(tmp_path, kwargs, grids) != name
 
 
+@pytest.mark.unit
 def test_hard_sweep_leaves_the_dear_methods_out_with_zero_exact_cases(tmp_path, capsys):
     # ``--exact-cases 0`` runs the closed-form methods and FASTSIM only; counts below 0 (or no
     # cases) are refused by name instead of failing inside the sweep
-    from contact_core.bench import hard
+    from contact_tools.bench import hard
     assert hard.main(["--cases", "60", "--exact-cases", "0", "--out", str(tmp_path),
                       "--no-progress"]) == 0
     text = (tmp_path / "hard_cases.md").read_text(encoding="utf-8")
     rows = [line.split("|")[1].strip() for line in text.splitlines()
             if line.startswith("| ") and line.split("|")[2].strip() == "60"]
-    assert rows == ["linear", "johnson_vermeulen", "fastsim"]
+    assert rows == ["linear", "johnson_vermeulen", "polach", "fastsim"]
     for argv, name in ((["--cases", "0"], "--cases"), (["--exact-cases", "-1"], "--exact-cases")):
         with pytest.raises(SystemExit):
             hard.main(argv)

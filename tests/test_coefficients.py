@@ -12,6 +12,8 @@ import pytest
 import contact_core as cc
 from contact_core.coefficients import CoefficientExtrapolationWarning
 
+pytestmark = pytest.mark.unit
+
 TABLE = Path(cc.__file__).parent / "data" / "kalker_coefficients.csv"
 
 

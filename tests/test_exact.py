@@ -21,6 +21,8 @@ from conftest import REFERENCE_DIR
 from contact_core.effects import Effects
 from contact_core.exact import EXTERIOR, SLIP, STICK, ExactSolverWarning
 
+pytestmark = pytest.mark.unit
+
 TABLE = Path(cc.__file__).parent / "data" / "kalker_coefficients.csv"
 G, NU = 8e10, 0.25
 
@@ -121,6 +123,7 @@ def _c33(ab: float, m: int, my: int | None = None) -> float:
     return -r.Mz / (G * c ** 3 * 1e-6)
 
 
+@pytest.mark.slow
 def test_spin_moment_coefficient_c33_round_contact_richardson():
     # At a/b = 1 the plain grid values approach Kalker's C33 slowly and, on coarse grids, not
     # monotonically (elements entering/leaving the circle): +20 % (20x20), +8.1 % (40), +5.2 %

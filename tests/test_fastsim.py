@@ -17,6 +17,8 @@ from contact_core.effects import Effects
 
 from conftest import REFERENCE_DIR
 
+pytestmark = pytest.mark.unit
+
 G, NU, N, MU = 82e9, 0.28, 100e3, 0.3
 A, B = 6e-3, 4e-3
 NO_SAT = ("longitudinal", "lateral", "spin")  # all effects except saturation: the μ -> ∞ limit
@@ -390,10 +392,10 @@ def _contact_result(row: dict[str, str], key: str) -> list[float]:
 
 
 def test_contact_fastsim_data_is_on_the_states_this_package_generates():
-    # examples/fastsim_vs_contact.py compares on these states; if a generator changes, CONTACT
+    # contact_tools/fastsim_vs_contact.py compares on these states; if a generator changes, CONTACT
     # has to be run again (the script refuses too)
-    from contact_core.bench.cases import make_cases
-    from contact_core.table.check import held_out_sets, second_draw
+    from contact_tools.bench.cases import make_cases
+    from contact_tools.table.check import held_out_sets, second_draw
     sets = {"bench": [c.solve_kwargs() for c in make_cases("full")],
             **{name: cases for name, _, cases, _ in held_out_sets() + second_draw()}}
     rows = _contact_fastsim_rows()
@@ -455,7 +457,7 @@ def test_with_spin_and_creepage_fastsim_is_not_behind_contacts_fastsim(bound, nx
     # the spin moment's flexibility per bound, contact_core.fastsim). Where CONTACT's is lower
     # (docs/fastsim_vs_contact.md): pure ξ, η and φ, where the two differ only in the layout,
     # and once under (ξ, η) (next test).
-    from contact_core.table.check import result_errors
+    from contact_tools.table.check import result_errors
     refs = _exact_references()
     key = f"{bound}_{nx}x{ny}"
     # per set: the states, the reference, this FASTSIM's and CONTACT's (Fx, Fy, Mz)
@@ -497,7 +499,7 @@ def test_with_spin_and_creepage_not_behind_contacts_fastsim_on_any_grid(bound):
     # elements in p95 or maximum on any of them. Without spin neither program is ahead on every
     # grid: their first-order grid errors cancel different parts of simplified theory's own
     # error (docs/fastsim_vs_contact.md, "Over a range of grids").
-    from contact_core.table.check import result_errors
+    from contact_tools.table.check import result_errors
     refs = _exact_references()
     scan = [r for r in _contact_scan_rows() if r["set"] == "bench"]
     keys = [c[:-3] for c in scan[0] if c.startswith(f"{bound}_") and c.endswith("_Fx")]
@@ -534,7 +536,7 @@ def test_with_xi_and_eta_the_blend_keeps_the_exact_direction(bound, nx, ny):
     # the creepage, contact_core.fastsim), and its vector error is not behind CONTACT's FASTSIM
     # (M=3, same number of elements) in p95 or maximum, or where it is, not behind that of
     # "separate", whose flexibilities are linear theory's: the grid layout, not the blend.
-    from contact_core.table.check import result_errors
+    from contact_tools.table.check import result_errors
     refs = _exact_references()
     key = f"{bound}_{nx}x{ny}"
     cases, ref, res = [], [], {"blended": [], "separate": [], "CONTACT": []}

@@ -20,6 +20,8 @@ from wheel_rail_fmu.build import build, main
 from wheel_rail_fmu.host import FmuInstance
 from wheel_rail_fmu.validation import validate
 
+pytestmark = pytest.mark.fmu_build
+
 ROOT = Path(__file__).resolve().parents[1]
 DIAGNOSTICS = {"a", "b", "p0", "slip_fraction", "method_used"}
 #: The README's scene table: scene -> (inputs, outputs).
@@ -100,6 +102,7 @@ def test_build_is_reproducible(fmus, tmp_path):
     assert again.read_bytes() == fmus["full"].read_bytes()
 
 
+@pytest.mark.slow
 def test_default_name_carries_scene_and_method(tmp_path):
     a = build("traction", "linear", tmp_path)
     b = build("traction", "fastsim", tmp_path)
@@ -140,6 +143,7 @@ def test_archive_holds_runtime_code_only(fmus):
 # Command line: names, checks of --set, contradictions, the README's commands
 # ---------------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_cli_builds_scene_with_method(tmp_path):
     out = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--scene", "traction",
                           "--method", "linear", "--out", str(tmp_path)],
@@ -180,6 +184,7 @@ def test_cli_checks_every_option_before_building(tmp_path, capsys, args, message
     assert not list(tmp_path.iterdir())
 
 
+@pytest.mark.slow
 def test_readme_build_commands_run_as_written(tmp_path):
     text = (ROOT / "README.md").read_text()
     block = text.split("### Build it for a scene", 1)[1].split("```sh\n", 1)[1].split("```", 1)[0]

@@ -10,6 +10,8 @@ import pytest
 import contact_core as cc
 from conftest import options_for
 
+pytestmark = pytest.mark.unit
+
 GEOM = dict(R_wheel=0.46, R_wheel_profile=math.inf, R_rail_profile=0.3)
 E, NU = 210e9, 0.28
 STEPS = [(1e-3, -5e-4, 0.2, 1e5, 0.3), (2e-3, 1e-4, -0.1, 8e4, 0.25),
@@ -94,7 +96,7 @@ def test_config_is_hashable_and_normalised():
                            options={"variant": "original", "spin": "she"})
     b = cc.WheelRailConfig(method="johnson_vermeulen",
                            options={"spin": "she", "variant": "original"},
-                           effects=list(cc.EFFECT_NAMES))
+                           effects=list(cc.ALL_EFFECTS.names()))
     assert a == b and hash(a) == hash(b)
 
 

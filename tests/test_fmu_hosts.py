@@ -20,6 +20,8 @@ import contact_core as cc
 from wheel_rail_fmu.build import build
 from wheel_rail_fmu.host import run_in_libcosim
 
+pytestmark = pytest.mark.host
+
 ROOT = Path(__file__).resolve().parents[1]
 GEOM = (0.46, float("inf"), 0.3)
 E, NU = 210e9, 0.28
@@ -62,6 +64,7 @@ def test_c_host_without_python_setup(fmus, tmp_path):
     assert lines[6:] == ["init 3", "freed"]
 
 
+@pytest.mark.slow
 def test_libcosim_runs_different_contact_fmus(fmus, other_version, tmp_path):
     """A third-party FMI host with a thread pool: a traction FMU (Johnson–Vermeulen), a curving
     FMU (its scene's default method, the table) and a traction FMU built from another version of
@@ -98,6 +101,7 @@ def test_libcosim_gets_the_message_before_the_error(fmus, tmp_path):
     assert "status=error" in text[:logged]
 
 
+@pytest.mark.slow
 def test_new_process_reuses_compiled_code(fmus, tmp_path):
     """Numba's cache lives next to the verified copy of the FMU's code in the cache folder: a
     second process compiles nothing (every kernel it calls is a cache hit)."""
@@ -123,6 +127,7 @@ def test_new_process_reuses_compiled_code(fmus, tmp_path):
     assert misses == 0 and hits >= 5, (hits, misses)
 
 
+@pytest.mark.slow
 def test_first_instances_from_threads_at_once(fmus):
     """Two threads of a new process instantiate the FMU at the same moment: both load its code
     (the first load, which releases the interpreter lock while it imports, once raced the
@@ -154,10 +159,11 @@ def test_first_instances_from_threads_at_once(fmus):
         assert out.splitlines()[-1] == "['ok', 'ok']", out
 
 
+@pytest.mark.slow
 def test_no_memory_growth_in_long_runs():
     """RSS over 1e5 refused steps with logging on, and over 300 instantiate/step/free cycles
-    (examples/bench_fmu_leaks.py, a fresh process)."""
-    out = subprocess.run([sys.executable, str(ROOT / "examples/bench_fmu_leaks.py"),
+    (contact_tools/bench_fmu_leaks.py, a fresh process)."""
+    out = subprocess.run([sys.executable, "-m", "contact_tools.bench_fmu_leaks",
                           "--wrapper", "native", "--json"], check=True, capture_output=True,
                          text=True).stdout
     r = json.loads(out.splitlines()[-1])["native"]
@@ -166,6 +172,7 @@ def test_no_memory_growth_in_long_runs():
     assert r["cycles_mb"] <= 3.0, r
 
 
+@pytest.mark.slow
 def test_pythonfmu_binary_fallback(tmp_path):
     """Where no compiler exists the FMU carries pythonfmu's binary: same forces; an invalid
     parameter is logged as an error and every step is refused (pythonfmu makes exceptions fatal
@@ -279,6 +286,7 @@ def test_host_instances_created_from_threads_keep_the_working_directory(fmus, mo
     assert results == [solve("johnson_vermeulen", "traction", xi=1e-3).Fx] * 3
 
 
+@pytest.mark.slow
 def test_host_messages_reach_their_own_instance(fmus):
     """wheel_rail_fmu.host.FmuInstance: each instance keeps its own FMU's messages, also after
     another instance is freed and collected (fmpy's logger proxy holds one callback per process;

@@ -24,6 +24,8 @@ from wheel_rail_fmu.build import build
 from wheel_rail_fmu.entry import MAX_IDLE_DAYS, cache_root
 from wheel_rail_fmu.host import FmuInstance
 
+pytestmark = pytest.mark.host
+
 GEOM = (0.46, math.inf, 0.3)
 E, NU = 210e9, 0.28
 OUTPUTS = ("Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction")
@@ -437,6 +439,7 @@ def test_instances_in_threads_leave_the_hosts_warnings_alone(fmus):
 # Isolation: each FMU runs the code it bundles
 # ---------------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_two_versions_side_by_side_and_one_after_another(fmus, other_version, tmp_path):
     v1 = build("traction", "linear", tmp_path, name="v1")
     ref = reference("linear", xi=1e-3, N=1e5, effects=cc.load_scene("traction").effects)[1][0]
@@ -480,6 +483,7 @@ def test_host_contact_core_is_not_used(fmus):
     assert float(out[2]) == ref[0]
 
 
+@pytest.mark.slow
 def test_cache_folder_drops_idle_copies(fmus, tmp_path):
     """A start removes the bundle copies no start has used for MAX_IDLE_DAYS days (also one a
     failed start left incomplete), keeps the recent ones and anything else in the folder, and

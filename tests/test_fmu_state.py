@@ -16,6 +16,8 @@ from conftest import options_for
 from wheel_rail_fmu.host import FmuInstance
 from wheel_rail_fmu.state import FORMAT_VERSION, MAGIC
 
+pytestmark = pytest.mark.host
+
 INPUTS = [dict(xi=1e-3, eta=-5e-4, phi=0.2, N=1e5, mu=0.3),
           dict(xi=2e-3, eta=1e-4, phi=-0.1, N=8e4, mu=0.25),
           dict(xi=-5e-4, eta=3e-4, phi=0.4, N=1.2e5, mu=0.35),

@@ -24,6 +24,8 @@ from hypothesis import strategies as st
 import contact_core as cc
 from contact_core.hertz import coulomb_spin_moment
 
+pytestmark = pytest.mark.unit
+
 settings.register_profile("ci", max_examples=150, deadline=None, derandomize=True,
                           suppress_health_check=[HealthCheck.too_slow])
 settings.register_profile("deep", max_examples=100_000, deadline=None,
@@ -31,9 +33,9 @@ settings.register_profile("deep", max_examples=100_000, deadline=None,
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 #: Every method, the discretised ones on small grids (the properties do not depend on the grid).
-SOLVERS = {"linear": {}, "johnson_vermeulen": {}, "fastsim": {"nx": 10, "ny": 10},
+SOLVERS = {"linear": {}, "johnson_vermeulen": {}, "polach": {}, "fastsim": {"nx": 10, "ny": 10},
            "exact": {"mx": 8, "my": 8, "extrapolate": False}, "table": {}}
-SATURATING = ("johnson_vermeulen", "fastsim", "exact", "table")
+SATURATING = ("johnson_vermeulen", "polach", "fastsim", "exact", "table")
 ARGS = ("xi", "eta", "phi", "N", "mu", "a", "b", "G", "nu")
 #: Small slack for rounding in the moment's bound (relative to it); the force bound has none.
 ROUND = 1e-9
@@ -55,7 +57,7 @@ def forces_ok(method, r, kw):
     assert 0.0 <= r.slip_fraction <= 1.0
     if method in SATURATING:
         assert math.hypot(r.Fx, r.Fy) <= kw["mu"] * kw["N"], (method, kw, r)
-    if method in ("johnson_vermeulen", "table"):
+    if method in ("johnson_vermeulen", "polach", "table"):
         # held to Coulomb's bound on the moment; the discretised methods' pressures are their
         # grids', up to 0.8 % above the continuum's bound on 8×8 (measured), so not checked here
         bound = coulomb_spin_moment(kw["mu"] * kw["N"], kw["a"], kw["b"])
@@ -154,8 +156,8 @@ def test_symmetries_of_steady_rolling(method, xi, eta, phi, N, mu, ab, c, G, nu)
 #: 16×16 at most 3.4 % over a/b 0.05..20 and ν 0..0.44; test_api: 6 % at 16-20 elements), the
 #: table within its nodes' (exact 48×48 extrapolated: C11, C22 -0.2..+1.6 % of Kalker's, as
 #: measured in the docstring of contact_core.exact.solver).
-LINEAR_TOL = {"linear": 1e-9, "johnson_vermeulen": 1e-5, "fastsim": 0.15, "exact": 0.05,
-              "table": 0.02}
+LINEAR_TOL = {"linear": 1e-9, "johnson_vermeulen": 1e-5, "polach": 1e-5, "fastsim": 0.15,
+              "exact": 0.05, "table": 0.02}
 LINEAR_OPTIONS = {**SOLVERS, "exact": {"mx": 16, "my": 16, "extrapolate": False}}
 
 
@@ -171,6 +173,12 @@ def test_small_creepage_agrees_with_linear_theory(method, xi, eta, phi, N, mu, a
     kw |= dict(xi=xi * f, eta=eta * f)
     r, lin = solve(method, LINEAR_OPTIONS[method], **kw), solve("linear", **kw)
     scale = math.hypot(lin.Fx, lin.Fy)
+    if method == "polach" and kind == "both":
+        # Polach 1999: Kalker's magnitude |(C11 ξ, C22 η)| along the creepage (ξ, η), not
+        # along (C11 ξ, C22 η) (contact_core.polach)
+        assert math.hypot(r.Fx, r.Fy) == pytest.approx(scale, rel=LINEAR_TOL[method])
+        assert (r.Fx * xi + r.Fy * eta) / (scale * size) == pytest.approx(-1.0, abs=1e-9)
+        return
     assert math.hypot(r.Fx - lin.Fx, r.Fy - lin.Fy) <= LINEAR_TOL[method] * scale
 
 

@@ -10,6 +10,8 @@ from scipy.integrate import quad
 import contact_core as cc
 
 from conftest import REFERENCE_DIR as REFERENCE
+
+pytestmark = pytest.mark.unit
 E, NU = 210e9, 0.28
 
 

@@ -10,6 +10,8 @@ from scipy.integrate import quad
 import contact_core as cc
 from contact_core.johnson_vermeulen import elliptic_bcd, jv_creep_coefficients
 
+pytestmark = pytest.mark.unit
+
 # Seed 002 Table 1 (ν = 1/4): C^JV and C^(20) for C11 and C22 at a/b = 0.2, 1, 5.
 TABLE1 = {
     "C11_JV": (4.26, 4.92, 8.65), "C22_JV": (3.28, 4.26, 8.89),

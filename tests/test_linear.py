@@ -7,6 +7,8 @@ import pytest
 
 import contact_core as cc
 
+pytestmark = pytest.mark.unit
+
 
 @pytest.mark.parametrize("ab, c11, c22", [(0.2, 3.37, 2.63), (1.0, 4.12, 3.67), (5.0, 7.78, 8.14)])
 def test_creep_forces_use_kalker_coefficients_and_ab(ab, c11, c22):

@@ -5,13 +5,18 @@ import pytest
 
 import contact_core as cc
 
-ALL = set(cc.EFFECT_NAMES)
+pytestmark = pytest.mark.unit
+
+#: Every effect of Coulomb friction (the default set; falling_friction is opt-in, issue 63).
+ALL = set(cc.ALL_EFFECTS.names())
 #: The issue's table: scene -> effects it needs.
 EXPECTED = {
     "traction": {"longitudinal", "saturation"},
+    "traction_falling": {"longitudinal", "saturation", "falling_friction"},
     "tangent_track": {"longitudinal", "lateral", "spin"},
     "curving": ALL,
     "full": ALL,
+    "vehicle": ALL | {"varying_geometry"},
 }
 
 
@@ -61,6 +66,7 @@ def test_scene_from_file_and_preferences(tmp_path):
     ('effects = ["longitudinal", "grip"]', "grip"),
     ('effects = ["saturation"]', "at least one"),
     ('effects = ["longitudinal", "variable_friction"]', "variable_friction"),
+    ('effects = ["longitudinal", "falling_friction"]', "falling_friction"),
     ('effects = ["longitudinal"]\ndefault_method = "nope"', "nope"),
     ('effects = ["longitudinal"]\ncolour = "red"', "colour"),
     ('effects = "longitudinal"', "effects"),

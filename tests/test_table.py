@@ -4,7 +4,7 @@ References: the exact solver itself at the table's nodes (a seeded random sample
 the table), Kalker's linear theory at small creepage (Kalker's coefficient table), full sliding
 (|F| = μN opposite the creepage), the symmetries of the problem, and the build pipeline on a toy
 configuration. Accuracy between the nodes against the converged exact theory is measured by
-``python -m contact_core.table check`` (docs/table_accuracy.md) and the benchmark.
+``python -m contact_tools.table check`` (docs/table_accuracy.md) and the benchmark.
 """
 from __future__ import annotations
 
@@ -20,11 +20,13 @@ import pytest
 import contact_core as cc
 from contact_core.hertz import coulomb_spin_moment
 from contact_core.table import TableDomainWarning, data
-from contact_core.table.build import (AXES, DEFAULT_FINE_GRID, DEFAULT_GRID, DEFAULT_TOL,
-                                      DEFAULT_TOL_SLIDING, FINE_INSIDE, SESSIONS, SLIDING,
-                                      WIDE_ABOVE, _ray_file, build, config, node_options, rays,
-                                      reuse_rays, solve_ray, wall_time)
 from contact_core.table.grid import Axes, creepages_from_reduced, node_reduced_creepage
+from contact_tools.table.build import (AXES, DEFAULT_FINE_GRID, DEFAULT_GRID, DEFAULT_TOL,
+                                       DEFAULT_TOL_SLIDING, FINE_INSIDE, SESSIONS, SLIDING,
+                                       WIDE_ABOVE, _ray_file, build, config, node_options, rays,
+                                       reuse_rays, solve_ray, wall_time)
+
+pytestmark = pytest.mark.unit
 
 G, N, MU = 8e10, 1e5, 0.3
 
@@ -48,12 +50,13 @@ def test_shipped_table_is_checked_and_documented():
     t = data.load()
     meta = json.loads((data.data_dir() / f"{data.NAME}.json").read_text())
     assert meta["sha256"] == data.sha256(data.data_dir() / f"{data.NAME}.npz")
-    assert meta["command"].startswith("python -m contact_core.table build")
+    assert meta["command"].startswith("python -m contact_tools.table build")
     assert t.values.shape == t.axes.shape + (data.N_VALUES,)
     size = sum((data.data_dir() / f"{data.NAME}{x}").stat().st_size for x in (".npz", ".json"))
     assert size < 20e6
 
 
+@pytest.mark.slow
 def test_random_nodes_equal_the_exact_solver():
     # Interpolation is exact at the nodes, and the nodes are the exact solver's: a seeded sample
     # of nodes solved afresh along their ray as the build solves it (the build's exact setting,
@@ -234,6 +237,7 @@ def test_altered_or_foreign_tables_are_refused(tmp_path):
         cc.make_solver("table", folder=str(tmp_path / "nowhere"))
 
 
+@pytest.mark.slow
 def test_build_pipeline_is_resumable_and_reproducible(tmp_path):
     # A toy table (the small axes, a coarse exact grid) built on a one-process Dask LocalCluster,
     # interrupted (half of its rays removed) and resumed: the same bytes, and a table whose nodes
@@ -280,6 +284,7 @@ def test_the_build_time_is_summed_over_its_sessions(tmp_path):
          "rays_reused": 0}]
 
 
+@pytest.mark.slow
 def test_a_refined_axis_reuses_the_rays_of_a_coarser_build(tmp_path):
     # θ refined from 7 to 13 nodes: every ray of the coarse build is an even-θ ray of the fine
     # one and is taken over (the values a fresh solve gives); a different exact grid takes none.
@@ -349,6 +354,7 @@ def test_the_wide_setting_takes_twice_the_elements_along_x_above_its_bound():
     assert node_options(config(axes, 48, 80, tol=1e-4)["exact"], 1.0)["tol"] == 1e-4
 
 
+@pytest.mark.slow
 def test_a_ghost_row_is_solved_like_a_node_row_but_not_part_of_the_domain(tmp_path):
     # ghost_below=1 (grid.Axes): one more row of a/b one step below ab_lo, the exact solver's
     # rays there; the rows inside are the rays of the same axes without it (all reused, to the

@@ -24,6 +24,9 @@ from wheelsets.analysis import fit_damped
 from wheelsets.build import build_contact, build_wheelsets
 from wheelsets.systems import CONNECTIONS, make_system
 
+# every test builds (once per session) and simulates the wheelset FMUs: all slow
+pytestmark = [pytest.mark.cosim, pytest.mark.slow]
+
 # Reference parameters (issue 6) -------------------------------------------------------------
 R0, B0, LAM, M, IZ, W = 0.46, 0.75, 0.15, 1500.0, 800.0, 100e3
 E, NU, MU, R_RAIL = 210e9, 0.28, 0.3, 0.3
@@ -282,7 +285,8 @@ def test_traction_follows_law_and_slips_beyond_limit(fmus, method, h):
 def test_scene_fmu_equals_full_fmu(fmus, method, h):
     """Driven wheelset on straight track (η = φ = 0): the traction-scene FMU and the full FMU
     give the same trajectories (1e-9) — the scene only removes work. What it saves per step is
-    measured by ``examples/bench_fmu.py`` (each scene against ``full``), not asserted here."""
+    measured by ``python -m contact_tools.bench_fmu`` (each scene against ``full``), not asserted
+    here."""
     T = 0.3 if method == "fastsim" else len(LEVELS) * HOLD + 0.12
     a = run_driven(fmus, "traction", method, h, T=T)
     b = run_driven(fmus, "full", method, h, T=T)

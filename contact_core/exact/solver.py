@@ -32,7 +32,11 @@ warm-started, its state also holds the solution before it, and the start is extr
 the secant of the two instead (a co-simulation sequence; measured 2-4x fewer sweeps per step at
 0.1 % steps). Option ``predictor``: ``"secant"`` (this, the default), ``"scale"`` (scaling
 only), ``"none"`` (the previous solution as it is). The state is an :class:`ExactWarmState`.
-examples/bench_exact.py reports the speed-ups against the size of the change.
+The tractions are kept on the grid of the semi-axes, in units of μ p0, so a new a/b (a contact
+geometry that changes at every step, the effect ``varying_geometry``) keeps both predictors:
+they need the same ν only (``contact_tools.bench_geometry`` compares the sweeps with cold
+starts).
+``python -m contact_tools.bench_exact`` reports the speed-ups against the size of the change.
 
 Rigid slip with spin (option ``spin_shift``). The steady-rolling slip of element i is the rigid
 slip minus the upwind difference (u_i - u_{i+1})/dx of the displacements towards the leading edge
@@ -107,6 +111,13 @@ coefficients over a/b 0.1..10 (44 and 48 miss at a/b = 10). ``extrapolate=False`
 grid as it is (CONTACT's discretisation: "Rigid slip with spin"). The forces are from the
 default ``spin_shift``; with 0.25, 24×24 gives 1.9 / 2.4.
 
+Falling friction (the effect ``falling_friction``, option ``falling="local"``): each element's
+bound at its own slip velocity, by an outer iteration between the friction field and the
+Coulomb problem (:mod:`.falling`); with the option ``layer`` (an elastic interfacial layer,
+:mod:`.layer`) and the law's friction memory this is CONTACT's series 2 of its ``tractcurv``
+example, which it reproduces on CONTACT's grid to the data's 4 digits (tests). The outer
+iteration costs 2-3 Coulomb solves (each warm-started) on the adhesion curve's falling branch.
+
 Non-convergence: if the tolerance is not reached within ``maxit`` sweeps, the result carries
 ``converged=False`` and an :class:`ExactSolverWarning` is issued (never an exception); the
 result is the last iterate (feasible: |p| <= μ p_n holds in every iterate).
@@ -122,9 +133,12 @@ import numpy as np
 from .. import notices
 from ..base import ContactMethod, bool_option, choice_option, float_option, int_option
 from ..cache import cached
+from ..friction import Rolling
 from ..hertz import max_pressure
 from ..result import ContactResult
+from .falling import local_friction
 from .kernels import folded_kernel_tables, kernel_tables, traction_differences
+from .layer import layer_folded_tables, layer_kernel_tables
 from .normal import normalised_pressure
 from .sweeps import EXTERIOR, SLIP, STICK, slip_field, solve_steady, solve_steady_half
 
@@ -206,7 +220,7 @@ class ExactWarmState:
     """What an exact solution leaves for the next solve (``ContactResult.warm_state``).
 
     The grid and problem it belongs to (``mx, my, scale, saturation``: a state of another grid
-    is not used; ``a_over_b, nu``: the scaled start and the secant need the same ones), the
+    is not used; ``nu``: the scaled start and the secant need the same one; ``a_over_b``), the
     solution's tractions divided by the reference scale (μ p0 with saturation, G otherwise)
     ``px, py`` (my, mx), its normalised creepages ``sigma`` = (ξ, η, φ √(ab))/(μ p0/G), and
     ``previous``: (px, py, sigma) of the solution it was started from, for the secant.
@@ -306,6 +320,14 @@ class Exact(ContactMethod):
         element centre, 0 <= spin_shift <= 0.5 (default 1/6, CONTACT's: the same forces as
         CONTACT on the same grid; 0.25: smaller worst-case spin errors on a fixed grid; module
         docstring, "Rigid slip with spin").
+    falling : {"local", "creep"}
+        With the effect ``falling_friction``: each element's bound at its own slip velocity
+        (default; :mod:`.falling`), or one coefficient at the creep velocity (the closed
+        forms' way, for comparison).
+    layer : float
+        Flexibility h/G3 of an elastic interfacial layer, m/Pa (default 0: none; :mod:`.layer`).
+        Inputs outside the physical range (which the method solves in similarity units, where
+        the layer has no scale) are refused with it.
     """
 
     name = "exact"
@@ -313,7 +335,8 @@ class Exact(ContactMethod):
     default_options: dict = {"mx": 52, "my": 52, "scale": 1.1, "tol": 1e-5, "maxit": 2000,
                              "normal": "numerical", "fields": False, "half": True,
                              "predictor": "secant", "extrapolate": True,
-                             "spin_shift": 1.0 / 6.0}
+                             "spin_shift": 1.0 / 6.0, "falling": "local", "layer": 0.0}
+    option_units = {"layer": "m/Pa"}
 
     def _check_options(self) -> None:
         o = self.options
@@ -328,6 +351,9 @@ class Exact(ContactMethod):
         bool_option(o, "half")
         choice_option(o, "predictor", PREDICTORS)
         bool_option(o, "extrapolate")
+        choice_option(o, "falling", ("local", "creep"))
+        float_option(o, "layer", 0.0, math.inf, hi_open=True)
+        self._falling_local = self.friction is not None and o["falling"] == "local"
         if o["extrapolate"]:
             for k in ("mx", "my"):
                 if o[k] < 16:
@@ -339,15 +365,26 @@ class Exact(ContactMethod):
     def warm_state_from_record(cls, record: dict[str, Any] | None) -> ExactWarmState | None:
         return None if record is None else ExactWarmState.from_record(record)
 
-    def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
+    def _similar(self, *args, **kwargs) -> ContactResult:
+        if self.options["layer"] > 0.0:
+            raise ValueError(f"layer={self.options['layer']!r} with inputs outside the physical "
+                             "range (semi-axes 1e-8..1e3 m, G 1e-3..1e15 Pa, N and mu*N "
+                             "1e-12..1e12 N, normalised creepage 1e-60..1e6), which are solved "
+                             "in similarity units where the layer has no scale: allowed layer=0 "
+                             "there")
+        return super()._similar(*args, **kwargs)
+
+    def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start,
+                   rolling: Rolling | None = None):
         o = self.options
         mx, my = o["mx"], o["my"]
         fine = self._grid_solve(mx, my, o["extrapolate"], xi, eta, phi, N, mu, a, b, G, nu,
-                                warm_start)
+                                warm_start, rolling)
         if not o["extrapolate"]:
             return fine.result
         mx2, my2 = mx // 2, my // 2
-        coarse = self._grid_solve(mx2, my2, True, xi, eta, phi, N, mu, a, b, G, nu, None)
+        coarse = self._grid_solve(mx2, my2, True, xi, eta, phi, N, mu, a, b, G, nu, None,
+                                  rolling)
         # Richardson, first order in the element size h ∝ 1/m: q = q1 + (q1 - q2)/(r - 1)
         w = 1.0 / (math.sqrt(mx * my / (mx2 * my2)) - 1.0)
         rf, rc = fine.result, coarse.result
@@ -365,9 +402,10 @@ class Exact(ContactMethod):
                        residual=max(rf.residual, rc.residual))
 
     def _grid_solve(self, mx: int, my: int, continuum_area: bool, xi, eta, phi, N, mu, a, b, G,
-                    nu, warm_start) -> "_GridSolution":
+                    nu, warm_start, rolling: Rolling | None = None) -> "_GridSolution":
         """One solve on an ``mx × my`` grid. ``continuum_area``: map it to the continuum's
-        contact area by similarity (module docstring, "Extrapolation")."""
+        contact area by similarity (module docstring, "Extrapolation"). ``rolling``: local
+        falling friction (:mod:`.falling`)."""
         o = self.options
         scale = o["scale"]
         eff = self.effects
@@ -380,7 +418,11 @@ class Exact(ContactMethod):
         x = -scale * a + (np.arange(mx) + 0.5) * dx
         y = -scale * b + (np.arange(my) + 0.5) * dy
         ratio = dy / dx
-        kxx, kxy, kyy = kernel_tables(mx, my, ratio, nu)
+        layer = o["layer"] * G / dx
+        if layer > 0.0:
+            kxx, kxy, kyy = layer_kernel_tables(mx, my, ratio, nu, layer)
+        else:
+            kxx, kxy, kyy = kernel_tables(mx, my, ratio, nu)
         con = grid.contact
         saturation = eff.saturation
         # tractions in units of G; reference scale of the warm state
@@ -392,15 +434,35 @@ class Exact(ContactMethod):
         # normalised creepages of the warm state's secant predictor
         sigma = np.array([xi, eta, phi * math.sqrt(a * b)]) / ref
         px, py, start = self._initial(warm_start, saturation, a / b, nu, sigma, ref, con, bound)
-        fold = (folded_kernel_tables(mx, my, ratio, nu)
-                if (o["half"] and eta == 0.0 and phi == 0.0) else None)
-        if fold is None:
-            it, rel, px, py, status, qx, qy = self._solve_full(px, py, bound, sx, sy, con,
-                                                               kxx, kxy, kyy, grid)
-        else:
-            it, rel, px, py, status, qx, qy = self._solve_half(px, py, bound, sx, sy, con,
-                                                               kxx, kyy, fold, grid)
-        converged = bool(rel <= o["tol"])
+        fold = None
+        if o["half"] and eta == 0.0 and phi == 0.0:
+            fold = (layer_folded_tables(mx, my, ratio, nu, layer) if layer > 0.0
+                    else folded_kernel_tables(mx, my, ratio, nu))
+
+        def solve(px, py, bound):
+            if fold is None:
+                return self._solve_full(px, py, bound, sx, sy, con, kxx, kxy, kyy, grid)
+            return self._solve_half(px, py, bound, sx, sy, con, kxx, kyy, fold, grid)
+
+        it, rel, px, py, status, qx, qy = solve(px, py, bound)
+        outer_ok = True
+        if rolling is not None and rolling.V > 0.0:
+            # the slip of the grid's problem is k times the continuum's (its creepages / k);
+            # its elements stand for dx / √k of the continuum's contact
+            def slip(px, py, qx, qy, status):
+                wx, wy = slip_field(px, py, qx, qy, status, sx, sy, kxx, kxy, kyy, grid.c_lo,
+                                    grid.c_hi, grid.e_lo, grid.e_hi)
+                return k * wx, k * wy
+            (it, rel, px, py, status, qx, qy), outer, change = local_friction(
+                solve, slip, (it, rel, px, py, status, qx, qy), bound, self._law, rolling.V,
+                dx / (math.sqrt(k) * rolling.V), rolling.memory, 10.0 * o["tol"])
+            outer_ok = change <= 10.0 * o["tol"]
+            if not outer_ok:
+                notices.warn(f"exact: falling friction not settled after {outer} outer "
+                             f"iterations (friction field change {change:.3g}); xi={xi:g}, "
+                             f"eta={eta:g}, phi={phi:g}, {mx}x{my} grid", ExactSolverWarning,
+                             stacklevel=4)
+        converged = bool(rel <= o["tol"]) and outer_ok
         if not converged:
             notices.warn(f"exact: not converged after {it} sweeps (relative update {rel:.3g} > "
                          f"tol={o['tol']:g}); xi={xi:g}, eta={eta:g}, phi={phi:g}, "
@@ -476,9 +538,9 @@ class Exact(ContactMethod):
         With the solution the previous one was started from (a co-simulation sequence), the
         start is extrapolated along the secant: p = p_k + α (p_k - p_{k-1}), α the projection of
         the change of the normalised creepages σ = (ξ, η, φ √(ab))/(μ p0/G) onto the last one
-        (|α| <= 3). Otherwise (same a/b and ν) p = s p_k with s = σ·σ_k/|σ_k|², then clipped
-        to the friction bound. ``predictor`` "scale" skips the secant, "none" both. Returns
-        (px, py, (px/ref, py/ref, σ) of the start or None).
+        (|α| <= 3). Otherwise (same ν; a/b may differ) p = s p_k with s = σ·σ_k/|σ_k|², then
+        clipped to the friction bound. ``predictor`` "scale" skips the secant, "none" both.
+        Returns (px, py, (px/ref, py/ref, σ) of the start or None).
         """
         o = self.options
         my, mx = con.shape
@@ -489,7 +551,9 @@ class Exact(ContactMethod):
         px_k, py_k, sig_k = st.px, st.py, st.sigma
         px = px_k
         py = py_k
-        same = st.a_over_b == a_over_b and st.nu == nu
+        # the tractions are on a grid of the semi-axes, in units of μ p0: for another a/b (a
+        # geometry that changes at every step) they are a start as good as for the same one
+        same = st.nu == nu
         predictor = o["predictor"]
         secant = False
         if predictor == "secant" and same and st.previous is not None:

@@ -71,7 +71,7 @@ def load(folder: str | None = None) -> TableData:
     npz, js = base / f"{NAME}.npz", base / f"{NAME}.json"
     if not (npz.is_file() and js.is_file()):
         raise ValueError(f"the exact-theory table is missing in {base}: build it with "
-                         "`python -m contact_core.table build`")
+                         "`python -m contact_tools.table build`")
     meta = json.loads(js.read_text(encoding="utf-8"))
     if meta.get("format_version") != FORMAT_VERSION:
         raise ValueError(f"{js}: format_version={meta.get('format_version')!r}, this code "

@@ -8,7 +8,7 @@ creepages
     u = (C11 ξ, C22 η, C23 c φ) G c² / (μN)
 
 are the linear theory's force contributions in units of μN, so |u| ~ 1 is where saturation sets
-in for every a/b (Johnson–Vermeulen's normalised creepage; ``contact_core.bench.cases``).
+in for every a/b (Johnson–Vermeulen's normalised creepage; ``contact_tools.bench.cases``).
 
 The table's coordinates are v = (u_ξ, u_η, w(a/b) u_φ): the spin component is weighted by
 

@@ -19,15 +19,19 @@ scipy's ``RegularGridInterpolator`` on the same table costs 0.1-0.8 ms per point
 (measured on this table: cubic 96 µs, linear 770 µs, a loaded 2-core machine), far over the
 method's per-call budget; these kernels cost about a µs.
 
-Being a tensor product, the interpolation can be done axis by axis. :func:`_make_slice`
-interpolates the whole table at one (a/b, ν) into a 3-D slice over (θ, ψ, s), from which
-:func:`_lookup_slice` interpolates with 64 nodes; :func:`_lookup` needs no slice: it interpolates
-the 64 nodes of its stencil at (a/b, ν) (512 table values), then over (θ, ψ, s). Both sum in the
-same order, so they give the same result to the bit. The method uses the slice where (a/b, ν)
-repeats, as in a simulation; at a new pair it calls :func:`_lookup_state`, which also forms the
-table's coordinates from the creepages (Kalker's coefficients and the spin weight compiled in: in
-Python around the kernel they cost 2-3 µs of the 7.6-9.2 µs a new pair took; 5.7-6.8 µs since,
-``check``).
+Being a tensor product, the interpolation can be done axis by axis, in one order everywhere:
+over ν first (each value from 0.0), then over a/b (from 0.0), then over (θ, ψ, s).
+:func:`_make_slice` interpolates the whole table at one (a/b, ν) into a 3-D slice over (θ, ψ, s),
+from which :func:`_lookup_slice` interpolates with 64 nodes; :func:`_nu_rows` interpolates it at
+one ν into rows over (θ, ψ, a/b, s), from which :func:`_lookup_rows` interpolates the 64 nodes of
+its stencil at a/b (256 row values), then over (θ, ψ, s); :func:`_lookup` needs neither: it
+interpolates the 64 nodes of its stencil at (a/b, ν) (512 table values). All sum in the same
+order, so they give the same result to the bit. The method uses the slice where (a/b, ν) repeats,
+as in a simulation of a fixed geometry, the rows where ν repeats and a/b does not (the effect
+``varying_geometry``), and otherwise :func:`_lookup_state`, which also forms the table's
+coordinates from the creepages (Kalker's coefficients and the spin weight compiled in: in Python
+around the kernel they cost 2-3 µs of the 7.6-9.2 µs a new pair took; 5.7-6.8 µs since,
+``check``); so does :func:`_lookup_rows`.
 """
 from __future__ import annotations
 
@@ -36,7 +40,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..coefficients import spline_coefficients
+from ..coefficients import SPLINE, spline_coefficients
 from .grid import spin_weight
 
 
@@ -103,9 +107,9 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
     the call (thread-safe).
 
     The 64 nodes of the (θ, ψ, s) stencil are first interpolated at (a/b, ν), summed in the
-    order of :func:`_make_slice` (each value from 0.0, over a/b then ν), then :func:`_cube` sums
-    the nodes: the result is the same to the bit as :func:`_lookup_slice` on the slice,
-    whichever path a call takes."""
+    order of :func:`_make_slice` and :func:`_nu_rows` (module docstring), then :func:`_cube`
+    sums the nodes: the result is the same to the bit as :func:`_lookup_slice` on the slice and
+    :func:`_lookup_rows` on the rows, whichever path a call takes."""
     sx, sy, theta, psi, s = _polar(u0, u1, u2)
     if s == 0.0:
         return 0.0, 0.0, 0.0, 0.0
@@ -120,19 +124,24 @@ def _lookup(values: np.ndarray, axes: np.ndarray, u0: float, u1: float, u2: floa
     st_a = shape[1] * st_n
     flat = values.reshape(-1)            # a view (C-contiguous): plain offsets
     local = np.zeros(256)                # the stencil's 4 x 4 x 4 nodes at (a/b, ν)
+    row = np.empty(16)
     for a in range(na):
-        for b in range(nn):
-            w = wa[a] * wn[b]
-            base = (ia + a) * st_a + (inu + b) * st_n + js * 4
-            j = 0
-            for t in range(4):
-                for p in range(4):
-                    o = base + (it + t) * st_t + (ip + p) * st_p
-                    src = flat[o:o + 16]     # 4 s nodes x 4 values, contiguous; views, which
-                    dst = local[j:j + 16]    # the compiler vectorises (1.0 against 1.6 µs)
+        w = wa[a]
+        base = (ia + a) * st_a + inu * st_n + js * 4
+        j = 0
+        for t in range(4):
+            for p in range(4):
+                o = base + (it + t) * st_t + (ip + p) * st_p
+                row[:] = 0.0                 # 4 s nodes x 4 values at ν, as _nu_rows forms them
+                for b in range(nn):
+                    src = flat[o + b * st_n:o + b * st_n + 16]   # contiguous; views, which the
+                    wb = wn[b]                                   # compiler vectorises
                     for m in range(16):
-                        dst[m] += w * src[m]
-                    j += 16
+                        row[m] += wb * src[m]
+                dst = local[j:j + 16]
+                for m in range(16):
+                    dst[m] += w * row[m]
+                j += 16
     g0, g1, g2, g3 = _cube(local, 0, 4, 4, 4, 0, wt, 0, wp, 0, wk)
     return _finish(sx, sy, s, g0, g1, g2, g3)
 
@@ -205,7 +214,7 @@ def _cube(flat: np.ndarray, base: int, n_t: int, n_p: int, n_s: int, it: int, wt
 
 def _make_slice(values: np.ndarray, axes: np.ndarray, log_ab: float, nu: float) -> np.ndarray:
     """The table interpolated at (ln(a/b), ν) on every (θ, ψ, s) node: shape (n_θ, n_ψ, n_s, 4),
-    the same weights as :func:`_lookup`."""
+    the same weights and order as :func:`_lookup`."""
     shape = values.shape
     ia, wa, na, inu, wn, nn = _pair_stencil(axes[0], axes[1], shape[0], shape[1], log_ab, nu)
     size = shape[2] * shape[3] * shape[4] * 4
@@ -213,12 +222,79 @@ def _make_slice(values: np.ndarray, axes: np.ndarray, log_ab: float, nu: float) 
     flat = values.reshape(-1)
     out = np.zeros(size)
     for a in range(na):
-        for b in range(nn):
-            w = wa[a] * wn[b]
-            o = (ia + a) * st_a + (inu + b) * size
-            for j in range(size):
-                out[j] += w * flat[o + j]
+        w = wa[a]
+        o = (ia + a) * st_a + inu * size
+        for j in range(size):
+            r = 0.0
+            for b in range(nn):
+                r += wn[b] * flat[o + b * size + j]
+            out[j] += w * r
     return out.reshape((shape[2], shape[3], shape[4], 4))
+
+
+def _nu_rows(values: np.ndarray, axes: np.ndarray, nu: float) -> np.ndarray:
+    """The table interpolated at ν on every node, the same weights and order as :func:`_lookup`
+    (the rows of :func:`_lookup_rows`): shape (n_θ, n_ψ, n_ab, n_s, 4), so that the a/b nodes a
+    lookup reads at one (θ, ψ) lie next to each other."""
+    shape = values.shape
+    inu, v0, v1, v2, v3 = _weights(nu, axes[0][1], axes[1][1], shape[1])
+    wn = (v0, v1, v2, v3)
+    nn = _count(shape[1])
+    block = shape[4] * 4
+    size = shape[2] * shape[3] * block
+    flat = values.reshape(-1)
+    out = np.empty((shape[2], shape[3], shape[0], shape[4], 4))
+    dst = out.reshape(-1)
+    for a in range(shape[0]):
+        o = (a * shape[1] + inu) * size
+        for tp in range(shape[2] * shape[3]):
+            d = (tp * shape[0] + a) * block
+            for j in range(block):
+                r = 0.0
+                for b in range(nn):
+                    r += wn[b] * flat[o + b * size + tp * block + j]
+                dst[d + j] = r
+    return out
+
+
+def _lookup_rows(rows: np.ndarray, axes: np.ndarray, xi: float, eta: float, phi: float,
+                 c: float, k: float, ab: float) -> tuple[float, float, float, float]:
+    """:func:`_lookup_state` from the rows of :func:`_nu_rows` at ν (the same value to the bit):
+    the 64 nodes of the (θ, ψ, s) stencil from 4 rows of a/b (each from 0.0), then
+    :func:`_cube`. ``axes``: the table's (2, 5) and a third row (spin power, ν, ...): every
+    argument that does not change from call to call is in an array, and Kalker's spline is
+    frozen into the compiled code (``_SPLINE``; :func:`check_frozen`), for numba's dispatch."""
+    s_xi, s_eta, s_phi, log_ab = _scales(_SPLINE[0], _SPLINE[1], axes[2, 0], ab, axes[2, 1])
+    sx, sy, theta, psi, s = _polar(s_xi * xi * k, s_eta * eta * k, s_phi * c * phi * k)
+    if s == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    lo = axes[0]
+    h = axes[1]
+    shape = rows.shape                  # (θ, ψ, a/b, s, 4)
+    ia, a0, a1, a2, a3 = _weights(log_ab, lo[0], h[0], shape[2])
+    wa = (a0, a1, a2, a3)
+    na = _count(shape[2])
+    it, wt, ip, wp, js, wk = _stencil(lo, h, shape[0], shape[1], shape[3], theta, psi, s)
+    st_a = shape[3] * 4
+    st_p = shape[2] * st_a
+    st_t = shape[1] * st_p
+    flat = rows.reshape(-1)
+    first = ia * st_a + js * 4
+    nv = 4 * _count(shape[3])           # 16, but not a constant: the loop stays a loop, which
+    local = np.zeros(256)               # the compiler vectorises
+    j = 0
+    for t in range(4):
+        for p in range(4):
+            o = first + (it + t) * st_t + (ip + p) * st_p
+            dst = local[j:j + nv]       # the 4 s nodes x 4 values of (θ, ψ) at (a/b, ν)
+            for a in range(na):
+                w = wa[a]
+                src = flat[o + a * st_a:o + a * st_a + nv]
+                for m in range(nv):
+                    dst[m] += w * src[m]
+            j += 16
+    g0, g1, g2, g3 = _cube(local, 0, 4, 4, 4, 0, wt, 0, wp, 0, wk)
+    return _finish(sx, sy, s, g0, g1, g2, g3)
 
 
 def _lookup_slice(slab: np.ndarray, axes: np.ndarray, u0: float, u1: float,
@@ -235,17 +311,49 @@ def _lookup_slice(slab: np.ndarray, axes: np.ndarray, u0: float, u1: float,
     return _finish(sx, sy, s, g0, g1, g2, g3)
 
 
+#: Kalker's spline (``coefficients.SPLINE``), which :func:`_lookup_rows` reads as a global:
+#: numba freezes it into the compiled code.
+_SPLINE = SPLINE
+_FROZEN_CHECKED = False
+
+
+def check_frozen() -> None:
+    """Once per process, before the rows are used (after :func:`kernels`): numba keys its disk
+    cache on this file only, and :func:`_lookup_rows` carries Kalker's spline as constants, so a
+    compiled cache of other data differs from :func:`_lookup_state` (which takes the spline as
+    arguments) on a small random table; it is then compiled afresh."""
+    global _FROZEN_CHECKED
+    if _FROZEN_CHECKED:
+        return
+    _FROZEN_CHECKED = True
+    rng = np.random.default_rng(0)
+    values = rng.random((6, 2, 6, 6, 6, 4)).astype(np.float32)    # the table's types
+    values.setflags(write=False)
+    axes = np.array([[math.log(0.1), 0.25, 0.0, -0.1, 0.0], [0.9, 0.05, 0.6, 0.3, 0.2],
+                     [0.8, 0.27, 0.0, 0.0, 0.0]])
+    rows = _nu_rows(values, axes, 0.27)
+    rows.setflags(write=False)
+    breaks, pieces = SPLINE
+    for ab in (0.2, 0.9, 6.0):
+        state = (1e-3, -4e-4, 0.3, 0.01, 50.0, ab)
+        if _lookup_rows(rows, axes, *state) != _lookup_state(values, axes, breaks, pieces, 0.8,
+                                                              *state, 0.27):
+            _lookup_rows.recompile()
+            return
+
+
 _JITTED = False
 
 
-def kernels() -> tuple[Callable, Callable, Callable, Callable]:
+def kernels() -> tuple[Callable, ...]:
     """The numba-compiled (:func:`_lookup_state`, :func:`_scales`, :func:`_make_slice`,
-    :func:`_lookup_slice`) (numba imported on first use; cached on disk). Every function of this
-    module, and the two it calls from ``coefficients`` and ``grid``, is replaced by its compiled
-    version (module attributes, as numba's cache statistics expect). numba's disk cache keys on
-    this file only: after editing those two functions, delete ``__pycache__``."""
+    :func:`_lookup_slice`, :func:`_nu_rows`, :func:`_lookup_rows`) (numba imported on first use;
+    cached on disk). Every function of this module, and the two it calls from ``coefficients``
+    and ``grid``, is replaced by its compiled version (module attributes, as numba's cache
+    statistics expect). numba's disk cache keys on this file only: after editing those two
+    functions, delete ``__pycache__``."""
     global _JITTED, _weights, _count, _polar, _finish, _pair_stencil, _stencil, _cube
-    global _lookup, _make_slice, _lookup_slice, _scales, _lookup_state
+    global _lookup, _make_slice, _lookup_slice, _scales, _lookup_state, _nu_rows, _lookup_rows
     global spline_coefficients, spin_weight
     if not _JITTED:
         import numba
@@ -255,5 +363,6 @@ def kernels() -> tuple[Callable, Callable, Callable, Callable]:
         _pair_stencil, _stencil, _cube = jit(_pair_stencil), jit(_stencil), jit(_cube)
         _lookup, _make_slice, _lookup_slice = jit(_lookup), jit(_make_slice), jit(_lookup_slice)
         _scales, _lookup_state = jit(_scales), jit(_lookup_state)
+        _nu_rows, _lookup_rows = jit(_nu_rows), jit(_lookup_rows)
         _JITTED = True
-    return _lookup_state, _scales, _make_slice, _lookup_slice
+    return _lookup_state, _scales, _make_slice, _lookup_slice, _nu_rows, _lookup_rows

@@ -24,7 +24,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 #: The modules of this package an FMU needs at run time.
 FMU_MODULES = ("__init__.py", "wheelset_dynamics.py", "wheelset_fmu_common.py",
-               "tangent_track.py", "curving.py", "driven_wheel.py")
+               "tangent_track.py", "curving.py", "driven_wheel.py", "slip_control.py")
 #: FMU name (its class, and the stem of its slave module in fmu_entries/).
 FMU_NAMES = ("TangentTrackWheelset", "CurvingWheelset", "DrivenWheelsetFMU")
 

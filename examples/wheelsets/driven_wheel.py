@@ -23,11 +23,21 @@ the drive), axle load W = 100 kN, m_vehicle = 0 (V constant), V_reg = 0.5 m/s, i
 xi0 = 0 (free rolling). Inputs: ``torque`` (N m), held over the communication step (the FMU uses
 its value at the step's start; a master that wants mid-step accuracy for a ramp sets the
 mid-step value), and ``brake`` (N m, the magnitude of a brake torque opposing the rotation).
+
+Slip control (``slip_control.SlipController``): with ``xi_target`` > 0 the torque demanded is
+cut by a PI controller on the creepage beyond ``xi_target`` (gains ``k_p``, N m, and ``k_i``,
+N m/s; the defaults place the loop's poles at 20 rad/s, critically damped, for the default I_y,
+V and r0: ``slip_control.gains``); output ``torque_applied``. The contact FMU of a scene with
+falling friction takes the rolling speed from the output ``speed`` (``systems.make_system``,
+``rolling_speed=True``).
 """
 from __future__ import annotations
 
+from .slip_control import SlipController, gains
 from .wheelset_dynamics import DrivenParams, DrivenWheelset, param_fields
 from .wheelset_fmu_common import WheelsetSlaveBase
+
+_K_P, _K_I = gains(DrivenParams.V, DrivenParams.I_y, DrivenParams.r0)
 
 
 class DrivenWheelsetFMU(WheelsetSlaveBase):
@@ -39,7 +49,11 @@ class DrivenWheelsetFMU(WheelsetSlaveBase):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self._declare(param_fields(DrivenParams) + [("xi0", 0.0, "initial creepage, 1")],
+        self._declare(param_fields(DrivenParams) + [
+            ("xi0", 0.0, "initial creepage, 1"),
+            ("xi_target", 0.0, "slip controller: the creepage magnitude it holds, 1 (0: off)"),
+            ("k_p", _K_P, "slip controller: proportional gain, N m per unit creepage"),
+            ("k_i", _K_I, "slip controller: integral gain, N m per unit creepage and s")],
                       extra_inputs=(("torque", "drive torque on the axle, N m"),
                                     ("brake", "brake torque magnitude (opposes the rotation), "
                                               "N m")),
@@ -47,11 +61,15 @@ class DrivenWheelsetFMU(WheelsetSlaveBase):
                                      ("speed", "forward speed V, m/s"),
                                      ("xi", "longitudinal creepage (both wheels), 1"),
                                      ("slip_velocity", "V - Omega r0, m/s"),
+                                     ("torque_applied", "drive torque applied over the last "
+                                                        "step (after the slip controller), N m"),
                                      ("adhesion", "(Fx_L + Fx_R) / axle load: used adhesion, 1")))
 
     def _make_model(self):
         p = DrivenParams(**{k: v for k, v in self.params().items()
                             if k in DrivenParams.__dataclass_fields__})
+        self._controller = (SlipController(self.xi_target, self.k_p, self.k_i)
+                            if self.xi_target > 0.0 else None)
         return DrivenWheelset(p, omega=p.V * (1.0 - self.xi0) / p.r0)
 
     def _update_outputs(self):
@@ -66,6 +84,10 @@ class DrivenWheelsetFMU(WheelsetSlaveBase):
         self.adhesion = (self.Fx_L + self.Fx_R) / load if load > 0 else 0.0
 
     def do_step(self, current_time, step_size):
-        self._model.step(step_size, self.torque, self.Fx_L, self.Fx_R, self.brake)
+        torque = self.torque
+        if self._controller is not None:
+            torque = self._controller.torque(torque, self._model.creepages()["xi_L"], step_size)
+        self.torque_applied = torque
+        self._model.step(step_size, torque, self.Fx_L, self.Fx_R, self.brake)
         self._update_outputs()
         return True

@@ -26,13 +26,18 @@ from .master import CoSimulation
 CONTACTS = ("L", "R")
 
 
-def connections() -> list[tuple[str, str]]:
+def connections(rolling_speed: bool = False) -> list[tuple[str, str]]:
+    """The connections of a wheelset and its two contacts; ``rolling_speed``: also the
+    wheelset's forward speed to each contact's rolling speed ``V`` (a contact scene with
+    falling friction; the driven wheelset's output ``speed``)."""
     out = []
     for s in CONTACTS:
         for v in ("xi", "eta", "phi", "N"):
             out.append((f"wheelset.{v}_{s}", f"contact_{s}.{v}"))
         for v in ("Fx", "Fy", "Mz"):
             out.append((f"contact_{s}.{v}", f"wheelset.{v}_{s}"))
+        if rolling_speed:
+            out.append(("wheelset.speed", f"contact_{s}.V"))
     return out
 
 
@@ -43,15 +48,16 @@ def make_system(wheelset_fmu: str | Path, contact_fmu: str | Path,
                 wheelset_params: Mapping | None = None, contact_params: Mapping | None = None,
                 contact_fmu_R: str | Path | None = None,
                 inputs: Mapping[str, Callable[[float], float]] | None = None,
-                scheme: str = "gauss-seidel", initial_exchange: bool = True) -> CoSimulation:
+                scheme: str = "gauss-seidel", initial_exchange: bool = True,
+                rolling_speed: bool = False) -> CoSimulation:
     """A wheelset FMU coupled to two instances of a contact FMU (same file unless
-    ``contact_fmu_R`` is given)."""
+    ``contact_fmu_R`` is given); ``rolling_speed``: see :func:`connections`."""
     comps = {"contact_L": contact_fmu, "contact_R": contact_fmu_R or contact_fmu,
              "wheelset": wheelset_fmu}
     starts = {"wheelset": dict(wheelset_params or {}),
               "contact_L": dict(contact_params or {}), "contact_R": dict(contact_params or {})}
-    return CoSimulation(comps, CONNECTIONS, starts, inputs=inputs, scheme=scheme,
-                        initial_exchange=initial_exchange)
+    return CoSimulation(comps, connections(rolling_speed) if rolling_speed else CONNECTIONS,
+                        starts, inputs=inputs, scheme=scheme, initial_exchange=initial_exchange)
 
 
 # ------------------------------------------------------------------------------------------------

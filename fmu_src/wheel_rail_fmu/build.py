@@ -1,14 +1,17 @@
 """Build the WheelRailContact FMU (FMI 2.0 co-simulation) for a scene.
 
     build-fmu [--scene SCENE] [--method METHOD] [--out DIR] [--name NAME] [--set NAME=VALUE ...]
-              [--wrapper {auto,native,pythonfmu}]
+              [--wrapper {auto,native,pythonfmu}] [--geometry-input {curvatures,semi_axes}]
 
 (``python build_fmu.py ...`` in a checkout does the same.) ``--scene``: a shipped scene
 (``contact_core.scenes()``) or the path of a scene ``.toml``; default ``full``. ``--method``: the
 default of the FMU's ``method`` parameter (default: the scene's). ``--set``: start value of a
 parameter, checked now with the checks the FMU makes at initialisation (``--set E=2.05e11``).
 ``--out``: output folder (default ``dist``). The FMU is ``DIR/WheelRailContact_<scene>_<method>.fmu``
-unless ``--name`` is given.
+unless ``--name`` is given. ``--geometry-input``, for a scene with ``varying_geometry``: the
+geometry inputs are the curvatures A, B (``curvatures``, the default: the FMU solves Hertz's patch)
+or the host's semi-axes a, b (``semi_axes``: a and b are then inputs, not outputs; the file name
+ends in ``_semi_axes``).
 
 What goes in:
 
@@ -18,9 +21,10 @@ What goes in:
   pythonfmu's generic binary instead (``--wrapper pythonfmu``; ``auto``, the default, warns when it
   falls back). pythonfmu's Windows binary is added as it is.
 * ``resources/_wheel_rail_contact_<digest>/``: the code the FMU runs, as one package named after
-  the digest of its contents: ``contact_core`` (without the host-side ``bench``), the runtime
-  modules of ``wheel_rail_fmu`` and pythonfmu's Python side; ``resources/wheel_rail_contact_<digest>.py``
-  (:mod:`.entry`), the slave module that loads it (``resources/slavemodule.txt``).
+  the digest of its contents: ``contact_core`` whole (the runtime: its modules and data), the
+  runtime modules of ``wheel_rail_fmu`` (``RUNTIME_MODULES``) and pythonfmu's Python side;
+  ``resources/wheel_rail_contact_<digest>.py`` (:mod:`.entry`), the slave module that loads it
+  (``resources/slavemodule.txt``).
 * ``resources/wheel_rail_contact.json``: scene, effects, default method, parameter start values,
   GUID; ``resources/requirements.txt``: what the host's Python needs (numpy, scipy, numba).
 
@@ -52,13 +56,17 @@ import contact_core
 from . import entry
 from .model_description import BUILD_CONFIG, BuildConfig, VarSpec, variables_for
 
+GEOMETRY_INPUTS = contact_core.variables.GEOMETRY_INPUTS
+
 MODEL_NAME = "WheelRailContact"
 HERE = Path(__file__).resolve().parent
 WRAPPER_SOURCE = HERE / "native" / "fmi2_python.c"
-#: Modules of this package the FMU runs (the rest is host-side: build, validation, host).
+#: Modules of this package the FMU runs: the slave and what it imports at run time (the rest is
+#: host-side: build, validation, host, native/; entry is copied in as the slave module).
 RUNTIME_MODULES = ("__init__.py", "model_description.py", "runtime.py", "slave.py", "state.py")
-_SKIP_DIRS = {"__pycache__", "bench"}
-_SKIP_SUFFIXES = {".pyc", ".pyo", ".nbi", ".nbc"}
+#: Compiled caches (Python's bytecode, numba's index and data): never bundled, the FMU makes its
+#: own.
+_CACHE_SUFFIXES = {".pyc", ".pyo", ".nbi", ".nbc"}
 WRAPPERS = ("auto", "native", "pythonfmu")
 
 
@@ -216,10 +224,11 @@ def _binaries(stage: Path, wrapper: str) -> dict[str, bytes]:
 # ----------------------------------------------------------------------------------------------
 
 def _copy_tree(src: Path, dst: Path, only: tuple[str, ...] | None = None) -> None:
-    """Copy source files (no caches, no host-side ``bench``), in sorted order."""
+    """Copy the files of ``src`` (only those named in ``only``, if given), no compiled caches, in
+    sorted order."""
     for f in sorted(src.rglob("*")):
         rel = f.relative_to(src)
-        if (f.is_dir() or any(p in _SKIP_DIRS for p in rel.parts) or f.suffix in _SKIP_SUFFIXES
+        if (f.is_dir() or f.suffix in _CACHE_SUFFIXES
                 or (only is not None and rel.as_posix() not in only)):
             continue
         (dst / rel).parent.mkdir(parents=True, exist_ok=True)
@@ -269,11 +278,13 @@ def _write_archive(files: dict[str, bytes], dest: Path) -> None:
 
 def build(scene: str | Path = "full", method: str | None = None, out: str | Path = "dist",
           parameters: dict | None = None, name: str | None = None,
-          wrapper: str = "auto", core: str | Path | None = None) -> Path:
+          wrapper: str = "auto", core: str | Path | None = None,
+          geometry_input: str = GEOMETRY_INPUTS[0]) -> Path:
     """Build the FMU for ``scene`` and return its path (see the module docstring).
 
     ``core``: the ``contact_core`` sources to bundle (default: the installed package; another
-    version of it, e.g. to compare releases in one co-simulation).
+    version of it, e.g. to compare releases in one co-simulation). ``geometry_input``: with
+    ``varying_geometry``, "curvatures" (inputs A, B) or "semi_axes" (inputs a, b).
     """
     from .validation import validate
 
@@ -281,9 +292,15 @@ def build(scene: str | Path = "full", method: str | None = None, out: str | Path
         raise ValueError(f"wrapper={wrapper!r} is unknown: allowed {list(WRAPPERS)}")
     sc = contact_core.load_scene(scene)
     method, parameters = resolve_parameters(sc, method, parameters)
+    contact_core.variables.geometry_names(geometry_input)     # a ValueError naming it
+    varying = sc.effects.varying_geometry
+    if geometry_input != GEOMETRY_INPUTS[0] and not varying:
+        raise ValueError(f"geometry_input={geometry_input!r} needs a scene with the effect "
+                         f"'varying_geometry' (scene {sc.name!r} has a fixed geometry)")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    dest = out / f"{name or f'{MODEL_NAME}_{sc.name}_{method}'}.fmu"
+    suffix = "_semi_axes" if geometry_input == "semi_axes" else ""
+    dest = out / f"{name or f'{MODEL_NAME}_{sc.name}_{method}{suffix}'}.fmu"
 
     with tempfile.TemporaryDirectory(prefix="wheel_rail_fmu_") as tmp:
         stage = Path(tmp)
@@ -295,9 +312,12 @@ def build(scene: str | Path = "full", method: str | None = None, out: str | Path
                     "parameters": parameters, "description": sc.description, "module": module,
                     "entry": hashlib.sha256((resources / f"{module}.py").read_bytes()).hexdigest(),
                     "binaries": {k: hashlib.sha256(v).hexdigest() for k, v in files.items()}}
+        if varying:
+            identity["geometry_input"] = geometry_input
         guid = str(uuid.uuid5(uuid.NAMESPACE_URL, "urn:contact_core:WheelRailContact:"
                               + json.dumps(identity, sort_keys=True)))
-        cfg = BuildConfig(sc.name, sc.description, sc.effects.names(), method, guid, parameters)
+        cfg = BuildConfig(sc.name, sc.description, sc.effects.names(), method, guid, parameters,
+                          geometry_input)
         (resources / BUILD_CONFIG).write_text(cfg.to_json())
 
         # The model description comes from the slave as the host will load it, after the
@@ -343,6 +363,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--wrapper", choices=WRAPPERS, default="auto",
                    help="FMI binary: this project's (native), pythonfmu's generic one, or native "
                         "where it can be compiled (auto, default)")
+    p.add_argument("--geometry-input", choices=GEOMETRY_INPUTS, default=GEOMETRY_INPUTS[0],
+                   help="with a scene of effect varying_geometry: inputs A, B (curvatures, "
+                        "default) or the host's semi-axes a, b (semi_axes)")
     a = p.parse_args(argv)
     params = {}
     for item in a.params:
@@ -353,7 +376,8 @@ def main(argv: list[str] | None = None) -> int:
             p.error(f"--set {k.strip()} is given twice")
         params[k.strip()] = v.strip()
     try:
-        path = build(a.scene, a.method, a.out, params, a.name, a.wrapper)
+        path = build(a.scene, a.method, a.out, params, a.name, a.wrapper,
+                     geometry_input=a.geometry_input)
     except (ValueError, WrapperUnavailable) as e:
         p.error(str(e))
     print(path)

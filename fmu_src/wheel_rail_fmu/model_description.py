@@ -9,11 +9,16 @@ modelDescription.xml, and the host at run time: both see the same resources fold
 :func:`variables_for` turns the scene's effects into the variable list:
 
 * inputs ``xi`` (longitudinal), ``eta`` (lateral), ``phi`` (spin) of the selected effects, ``N``
-  always, ``mu`` with ``variable_friction``;
+  always, ``mu`` with ``variable_friction``, the rolling speed ``V`` with ``falling_friction``;
+* with ``varying_geometry`` the inputs ``A``, ``B`` (the build's ``geometry_input``
+  "curvatures", the default) or ``a``, ``b`` ("semi_axes": then not outputs), instead of the
+  parameters ``R_wheel``, ``R_wheel_profile``, ``R_rail_profile``
+  (:func:`contact_core.variables.scene_variables`);
 * outputs ``Fx`` (longitudinal), ``Fy`` (lateral), ``Mz`` (spin), and always ``a``, ``b``, ``p0``,
   ``slip_fraction``, ``method_used``;
 * parameters ``method``, ``mu`` (with ``saturation`` and without ``variable_friction``), ``E``,
-  ``nu``, ``R_wheel``, ``R_wheel_profile``, ``R_rail_profile``, and the numeric/string options of
+  ``nu``, ``R_wheel``, ``R_wheel_profile``, ``R_rail_profile``, the friction law's
+  ``friction_*`` with ``falling_friction``, and the numeric/string options of
   every method registered in :data:`contact_core.METHODS` at build time (grid sizes, tolerances...;
   an option named by several methods with different defaults becomes ``<method>_<option>``).
 
@@ -47,6 +52,8 @@ UNITS: dict[str, dict[str, int]] = {
     "1": {},
     "1/m": {"m": -1},
     "m": {"m": 1},
+    "m/s": {"m": 1, "s": -1},
+    "m/Pa": {"kg": -1, "m": 2, "s": 2},
     "N": {"kg": 1, "m": 1, "s": -2},
     "N.m": {"kg": 1, "m": 2, "s": -2},
     "Pa": {"kg": 1, "m": -1, "s": -2},
@@ -84,19 +91,24 @@ class BuildConfig:
     method: str
     guid: str
     parameters: dict[str, Any]
+    #: with ``varying_geometry``: "curvatures" (inputs A, B) or "semi_axes" (inputs a, b)
+    geometry_input: str = contact_core.variables.GEOMETRY_INPUTS[0]
 
     @classmethod
     def load(cls, resources: str | os.PathLike) -> "BuildConfig":
         with open(Path(resources) / BUILD_CONFIG, encoding="utf-8") as f:
             d = json.load(f)
         return cls(d["scene"], d.get("scene_description", ""), tuple(d["effects"]), d["method"],
-                   d["guid"], dict(d.get("parameters", {})))
+                   d["guid"], dict(d.get("parameters", {})),
+                   d.get("geometry_input", contact_core.variables.GEOMETRY_INPUTS[0]))
 
     def to_json(self) -> str:
-        return json.dumps({"scene": self.scene, "scene_description": self.scene_description,
-                           "effects": list(self.effects), "method": self.method,
-                           "guid": self.guid, "parameters": self.parameters},
-                          indent=2, sort_keys=True) + "\n"
+        d = {"scene": self.scene, "scene_description": self.scene_description,
+             "effects": list(self.effects), "method": self.method, "guid": self.guid,
+             "parameters": self.parameters}
+        if "varying_geometry" in self.effects:
+            d["geometry_input"] = self.geometry_input
+        return json.dumps(d, indent=2, sort_keys=True) + "\n"
 
 
 # ----------------------------------------------------------------------------------------------
@@ -142,7 +154,8 @@ def option_parameters(methods: dict[str, type]) -> list[VarSpec]:
             specs.append(VarSpec(
                 name, _fmi_type(default), "parameter", "fixed",
                 f"Option {opt!r} of method {owners} (see its documentation); default {default!r}",
-                unit="1" if type(default) is float else None, start=default, initial="exact",
+                unit=(getattr(methods[mname], "option_units", {}).get(opt, "1")
+                      if type(default) is float else None), start=default, initial="exact",
                 option=(mname if not shared else "*", opt)))
     return specs
 
@@ -160,15 +173,19 @@ def _description(v) -> str:
 
 
 def variables_for(effects: tuple[str, ...], method: str, methods: dict[str, type],
-                  parameters: dict[str, Any] | None = None) -> list[VarSpec]:
+                  parameters: dict[str, Any] | None = None,
+                  geometry_input: str = contact_core.variables.GEOMETRY_INPUTS[0]
+                  ) -> list[VarSpec]:
     """The variables of an FMU built for ``effects`` with default ``method``: the contact's
     (:func:`contact_core.variables.scene_variables`), the FMU's own parameters and the options
     of the registered methods.
 
     ``methods`` is the registry (name -> class with ``code`` and ``default_options``);
-    ``parameters`` overrides start values of parameters by name.
+    ``parameters`` overrides start values of parameters by name; ``geometry_input``: how the
+    geometry comes in with ``varying_geometry``.
     """
-    table = contact_core.variables.scene_variables(contact_core.Effects.from_names(effects))
+    table = contact_core.variables.scene_variables(contact_core.Effects.from_names(effects),
+                                                   geometry_input)
     overrides = dict(parameters or {})
     inputs = [VarSpec(v.name, v.type, "input", "continuous", _description(v), v.unit, v.default)
               for v in table if v.causality == "input"]

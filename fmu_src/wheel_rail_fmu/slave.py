@@ -1,6 +1,8 @@
 """The FMI 2.0 co-simulation slave: a thin adapter from FMI variables onto ``contact_core``.
 
-No physics here: every step is :meth:`contact_core.WheelRailEvaluator.evaluate`. What this class
+No physics here: every step is :meth:`contact_core.WheelRailEvaluator.evaluate` (with the
+effect ``varying_geometry``: :meth:`contact_core.VaryingGeometryEvaluator.evaluate` of the
+curvature inputs A, B, or of the semi-axis inputs a, b). What this class
 does: declare the variables the build chose (:mod:`.model_description`), follow the FMI 2.0
 co-simulation state machine (sec. 4.2.4) and the variables' variability, build the evaluator from
 the parameters at ``fmi2ExitInitializationMode``, map inputs and outputs per step, and save and
@@ -57,6 +59,13 @@ class FmiStatusError(Exception):
         self.fmi_status = int(status)
 
 
+def _evaluator(config):
+    """The evaluator of ``config``: a fixed geometry, or one given at every step."""
+    if isinstance(config, contact_core.VaryingGeometryConfig):
+        return contact_core.VaryingGeometryEvaluator(config)
+    return contact_core.WheelRailEvaluator(config)
+
+
 def _initial(spec: VarSpec) -> Any:
     """A variable's value at instantiation: its start value, or zero (outputs)."""
     return spec.start if spec.start is not None else _ZERO[spec.type]
@@ -77,12 +86,18 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self.description = (f"Wheel-rail rolling contact (Kalker's theories, contact_core), scene "
                             f"'{build.scene}': {build.scene_description}")
         self._specs = variables_for(build.effects, build.method, contact_core.METHODS,
-                                    build.parameters)
+                                    build.parameters, build.geometry_input)
         self._names = {s.name for s in self._specs}
+        # varying_geometry: the geometry inputs (curvatures A, B, or semi-axes a, b: then a and
+        # b are not outputs), else None
+        self._geometry = (build.geometry_input if "varying_geometry" in build.effects
+                          else None)
+        self._patch_outputs = self._geometry != "semi_axes"
         # Inputs of effects the scene leaves out are 0 (the core requires that); mu is a parameter
         # or an input, or unused (no saturation: the core's mu -> inf limit).
         self.xi = self.eta = self.phi = 0.0
         self.mu = contact_core.variables.DEFAULTS["mu"]
+        self.V = None  # the rolling speed: an input with falling_friction only
         self._by_vr: dict[int, VarSpec] = {}
         self._refusal = Fmi2Status.discard
         self._mode = "instantiated"
@@ -178,7 +193,7 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         first step), when first read or at ``fmi2ExitInitializationMode``; a value set since
         then drops them (``self._evaluator`` is None until they are computed)."""
         try:
-            evaluator = contact_core.WheelRailEvaluator(self._config())
+            evaluator = _evaluator(self._config())
         except ValueError as e:  # names the parameter and its allowed range
             self._reject(f"{where}: invalid parameter: {e}")
             return False
@@ -224,7 +239,13 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self._context = (where, t)
         self._notices.sink = self._sink
         try:
-            r = ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu)
+            geometry = self._geometry
+            if geometry is None:
+                r = ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu, self.V)
+            elif geometry == "curvatures":
+                r = ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu, self.A, self.B)
+            else:
+                r = ev.evaluate(self.xi, self.eta, self.phi, self.N, self.mu, self.a, self.b)
         except ValueError as e:  # names the input and its allowed range
             self._reject(f"{where} at t={t!r} refused: {e}; outputs keep their last values",
                          refusal)
@@ -237,8 +258,9 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         self.Fx = r.Fx
         self.Fy = r.Fy
         self.Mz = r.Mz
-        self.a = ev.a
-        self.b = ev.b
+        if self._patch_outputs:
+            self.a = ev.a
+            self.b = ev.b
         self.p0 = ev.p0
         self.slip_fraction = r.slip_fraction
         self.method_used = ev.method_code
@@ -255,8 +277,9 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
                      f"iterations at residual {r.residual!r}", Fmi2Status.warning)
         return True
 
-    def _config(self, values: Mapping[str, Any] | None = None) -> contact_core.WheelRailConfig:
-        """The evaluator's configuration from the parameters (this instance's, or ``values``)."""
+    def _config(self, values: Mapping[str, Any] | None = None) -> Any:
+        """The evaluator's configuration from the parameters (this instance's, or ``values``):
+        a ``WheelRailConfig``, or with ``varying_geometry`` a ``VaryingGeometryConfig``."""
         def get(name: str) -> Any:
             return values[name] if values is not None else getattr(self, name)
         choice = get("invalid_input")
@@ -279,12 +302,23 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             except ValueError as e:
                 raise ValueError(f"{e} (a parameter of method {name!r}, checked although "
                                  f"method={method!r} is selected)") from None
+        mu = float(get("mu")) if "mu" in self._names else self.mu
+        if self._geometry is not None:
+            return contact_core.VaryingGeometryConfig(method=method, effects=self._build.effects,
+                                                      mu=mu, E=float(get("E")),
+                                                      nu=float(get("nu")), options=options,
+                                                      geometry_input=self._geometry)
+        friction = None
+        if "friction_law" in self._names:
+            friction = contact_core.variables.friction_law(
+                get("friction_law"), float(get("friction_kinetic_ratio")),
+                float(get("friction_slip_half")))
         return contact_core.WheelRailConfig(
             method=method, effects=self._build.effects,
-            mu=float(get("mu")) if "mu" in self._names else self.mu, E=float(get("E")),
+            mu=mu, E=float(get("E")),
             nu=float(get("nu")), R_wheel=float(get("R_wheel")),
             R_wheel_profile=float(get("R_wheel_profile")),
-            R_rail_profile=float(get("R_rail_profile")), options=options)
+            R_rail_profile=float(get("R_rail_profile")), options=options, friction=friction)
 
     # -- values --------------------------------------------------------------------------------
     def _lookup(self, vr: int, kind: str) -> VarSpec | None:
@@ -394,16 +428,18 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
                 config = self._config(st.values)
                 ev = self._evaluator
                 evaluator = (ev if ev is not None and ev.config == config
-                             else contact_core.WheelRailEvaluator(config))
+                             else _evaluator(config))
                 used = (config.method, contact_core.METHODS[config.method].fallback)
                 if st.result is not None and st.result.method not in used:
                     raise ValueError(f"the state's result is of method {st.result.method!r}, "
                                      f"its parameters select {config.method!r}")
                 if st.fresh:  # outputs the next read returns as they are: they must be the law's
                     v = st.values
+                    geometry = ([v[n] for n in evaluator.geometry]
+                                if self._geometry is not None else ())
                     evaluator.check_outputs(v["N"], v.get("mu", config.mu), v.get("Fx", 0.0),
                                             v.get("Fy", 0.0), v["a"], v["b"], v["p0"],
-                                            v["slip_fraction"])
+                                            v["slip_fraction"], *geometry)
         except ValueError as e:
             self._reject(f"{where}: {e}; the instance keeps its state")
             return None

@@ -1,6 +1,7 @@
-"""Validation of built FMUs (used by ``build_fmu.py`` and the tests).
+"""Validation of built FMUs (used by the build, ``build-fmu``, and the tests).
 
-fmpy is imported lazily: this module is bundled into the FMU but never run inside it.
+Host side: never bundled into an FMU (not in :data:`wheel_rail_fmu.build.RUNTIME_MODULES`). fmpy
+(the ``host`` extra) is imported when a validation runs.
 """
 from __future__ import annotations
 
