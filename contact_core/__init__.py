@@ -11,8 +11,10 @@ from .api import METHODS, make_solver, methods, solve
 from .base import ContactMethod
 from .cache import clear_caches
 from .coefficients import creep_coefficients
+from .contacts import ContactFailure, ContactInputError, Contacts
 from .effects import ALL_EFFECTS, EFFECT_NAMES, Effects
 from .friction import FrictionLaw
+from .jacobian import Jacobian
 from .hertz import (HertzGeometry, HertzPatch, hertz, hertz_from_radii, hertz_geometry,
                     wheel_rail_curvatures)
 from .material import contact_modulus, shear_modulus
@@ -33,3 +35,4 @@ __all__ += ["FrictionLaw"]
 __all__ += ["DEFAULT_SCENE", "Scene", "VARIABLES", "Variable", "WheelRailConfig",
             "WheelRailEvaluator", "load_scene", "scene_variables", "scenes"]
 __all__ += ["VaryingGeometryConfig", "VaryingGeometryEvaluator"]
+__all__ += ["ContactFailure", "ContactInputError", "Contacts", "Jacobian"]

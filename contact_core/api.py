@@ -1,6 +1,7 @@
 """The single entry point ``solve`` and the registry of methods (cf. ``scipy.integrate.solve_ivp``)."""
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any, Iterable
 
 from .base import ContactMethod
@@ -62,7 +63,8 @@ def _cached_solver(method: str, effects: Any, friction: Any,
 def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
           b: float, G: float, nu: float, effects: Effects | Iterable[str] | None = None,
           warm_start: ContactResult | None = None, V: float | None = None,
-          friction: FrictionLaw | None = None, **options: Any) -> ContactResult:
+          friction: FrictionLaw | None = None, jacobian: bool = False,
+          **options: Any) -> ContactResult:
     """Creep forces and spin moment of one wheel–rail contact.
 
     Parameters
@@ -93,6 +95,10 @@ def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float
     friction : FrictionLaw, optional
         The law of the effect ``falling_friction`` (:mod:`contact_core.friction`; None: the
         default ``FrictionLaw()``), ``mu`` being its static coefficient.
+    jacobian : bool, optional
+        Also the derivatives of the outputs with respect to the inputs, as the result's
+        ``jacobian`` (:class:`contact_core.jacobian.Jacobian`: analytic for ``linear``,
+        ``johnson_vermeulen`` and ``table``, else central differences of the method).
     **options
         Passed to the method (e.g. ``variant=`` for Johnson–Vermeulen); unknown ones are an error.
 
@@ -108,6 +114,15 @@ def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float
         solver = None
     if solver is None:
         solver = _cached_solver(method, effects, friction, options)
+    if jacobian:
+        if V and solver.friction is None:
+            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
+                             "selected: allowed None or 0, or select the effect")
+        r = (solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
+             if solver.friction is None else
+             solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start, 0.0 if V is None else V))
+        return replace(r, jacobian=solver.jacobian(xi, eta, phi, N, mu, a, b, G, nu,
+                                                   warm_start, V, result=r))
     if V is None:
         return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
     if solver.friction is None:

@@ -14,10 +14,13 @@ from dataclasses import replace
 from typing import Any, ClassVar, Sequence
 
 import numpy as np
+from numba.extending import register_jitable
 
+from . import jacobian as derivatives
 from .coefficients import A_OVER_B_RANGE
 from .effects import ALL_EFFECTS, Effects
 from .friction import DEFAULT_LAW, FrictionLaw, Rolling, creep_velocity, ratio_of
+from .jacobian import Jacobian
 from .result import ContactResult, make_result
 from .variables import out_of_range
 
@@ -132,13 +135,16 @@ def _not_a_number(values: tuple) -> ValueError | None:
     return None
 
 
+@register_jitable
 def _moderate(xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
               G: float, nu: float, saturates: bool) -> bool:
     """Inputs a method computes directly in SI units: semi-axes 1e-8..1e3 m, G 1e-3..1e15 Pa,
     N and μN (N without saturation) 1e-12..1e12 N, |σ| <= 1e6 (max(a, b) >= √(ab) bounding the
     spin term). Every product and square of the methods' SI arithmetic then stays far inside the
     float range; with ν and a/b in range these bounds imply every check of check_inputs. NaN
-    fails every comparison. Literal numbers: this runs at every call."""
+    fails every comparison. Literal numbers: this runs at every call. Also compiled into the
+    methods' fused kernels (numba's ``register_jitable``: a plain Python function when called
+    from Python)."""
     if (1e-8 <= a <= 1e3 and 1e-8 <= b <= 1e3 and 1e-3 <= G <= 1e15 and 1e-12 <= N <= 1e12
             and 0.0 <= nu < 0.5 and 0.005 <= a / b <= 200.0
             and 0.0 <= mu <= 1.7976931348623157e308):
@@ -202,9 +208,91 @@ _LOG_S_MAX, _LOG_S_MIN = math.log(1e100), math.log(1e-100)
 class ContactMethod(ABC):
     """A rolling-contact method: construct once with options, then call :meth:`step` per state.
 
-    Subclasses set ``name`` (registry key), ``code`` (integer id, reported by the FMU as
-    ``method_used``) and ``default_options`` (every accepted option with its default), may override
-    :meth:`_check_options`, and implement :meth:`_step_impl`.
+    The base class of every method of :data:`contact_core.METHODS`, as ``scipy.integrate.OdeSolver``
+    is of ``solve_ivp``'s: the public :meth:`step` checks the inputs, handles the lifted and
+    frictionless contact, the effects not selected, the units of inputs far from wheel–rail
+    values (:meth:`_similar`), the falling-friction effect and Coulomb's bound to the last bit,
+    and calls the private :meth:`_step_impl` of the subclass with validated SI inputs.
+
+    Parameters
+    ----------
+    effects : Effects
+        The effects to compute (:mod:`contact_core.effects`); all of Coulomb friction by default.
+    friction : FrictionLaw, optional
+        The law of the effect ``falling_friction`` (None: the default law, with the effect).
+    **options
+        The method's options; an option not in ``default_options`` is a ``ValueError``.
+
+    Notes
+    -----
+    **Implementing a new method.** A subclass sets or implements:
+
+    ``name`` : str
+        The registry key (``contact_core.solve(name, ...)``), also the ``method`` of its results.
+    ``code`` : int
+        A small integer not used by another method, the FMU's ``method_used`` output.
+    ``default_options`` : dict
+        Every option it accepts, with its default. The FMU exposes the numeric, boolean and
+        string ones as parameters (:mod:`wheel_rail_fmu.model_description`); ``option_units``
+        gives the SI unit of those that have one.
+    :meth:`_check_options`
+        Validates ``self.options`` (already completed with the defaults) with the validators
+        :func:`int_option`, :func:`float_option`, :func:`choice_option`, :func:`bool_option`,
+        whose ``ValueError`` names the option and its allowed values; it may store derived
+        values on ``self``. A method with a local falling-friction law sets
+        ``self._falling_local`` here.
+    :meth:`_step_impl`
+        ``(xi, eta, phi, N, mu, a, b, G, nu, warm_start)`` → :class:`ContactResult`, for
+        validated inputs with ``N > 0`` in SI units (and ``rolling`` after ``warm_start`` when
+        ``_falling_local``). It computes only ``self.effects``: the outputs of unselected
+        effects are 0.0, and without ``saturation`` (``self._saturates`` False) it returns its
+        own unsaturated, μ → ∞ limit. It builds its result with :func:`.result.make_result`
+        (or ``ContactResult``); ``step`` holds ``hypot(Fx, Fy) <= mu * N`` afterwards.
+    ``saturates`` : bool
+        False only for a method that never saturates (linear theory): its forces are then linear
+        in the creepages whatever the effects, and μ does not enter.
+    ``fallback`` : str or None
+        The registered method that solves the states outside this one's domain (the table's
+        a/b and ν: ``exact``); such results carry the fallback's ``name``.
+    ``fields`` (optional)
+        A method that returns traction fields (an option ``fields``) gives them an instance
+        method ``scaled(length, pressure, bound, traction, slip)``, the fields in other units:
+        :meth:`_similar` solves inputs far from wheel–rail values in the units of Hertzian
+        similarity and scales the fields back with it.
+    :meth:`warm_state_from_record` (optional)
+        A method that keeps a warm start (``ContactResult.warm_state``, read back from
+        ``warm_start`` at the next call) gives the state a ``to_record()`` (a dict of numbers,
+        strings and float arrays: the FMU's saved states hold it as data) and overrides this
+        class method to read one back, checked.
+    :meth:`_jacobian_impl` (optional)
+        The analytic derivatives of its outputs at a state it solved directly (:meth:`jacobian`,
+        ``solve(..., jacobian=True)``); without it, central differences of :meth:`step` with
+        the relative step of ``contact_core.jacobian.RELATIVE_STEPS``.
+    effects
+        Besides ``saturation``, a method sees the effects only through its inputs:
+        ``falling_friction`` either passes one coefficient at the creep velocity as ``mu``
+        (:meth:`_step_falling`) or, with ``_falling_local``, the rolling speed to
+        :meth:`_step_impl`; with ``varying_geometry`` (``self.effects.varying_geometry``) a new
+        a/b comes at every call, so a method computes per call what it would cache per a/b,
+        with the same results.
+
+    It is registered by adding the class to :data:`contact_core.METHODS` (``contact_core.api``).
+
+    **The contract it is held to.** ``tests/test_method_contract.py`` runs every registered
+    method through the same tests, so a new method gets them by being registered: results
+    finite and, with saturation, |F| <= μN in floating point; forces against the slip and
+    reaching μN at full sliding; the symmetries of steady rolling (ξ -> -ξ flips Fx only,
+    (η, φ) -> (-η, -φ) flips Fy and Mz only); linear theory as the small-creepage limit; SI and
+    other consistent units alike, and Hertzian similarity at any scale; zero forces for a lifted
+    or resting contact; only the selected effects computed, the others' inputs refused; every
+    finite input either solved or refused with a ``ValueError`` naming the argument and its
+    range; the warm state's record read back; the fields scaled. What a method does differently
+    by design is declared there per method with its source (the ``DECLARED`` table: linear
+    theory never saturates; FASTSIM's default scheme makes its linear limit (1 + 1/nx) times
+    linear theory's; the discretised methods meet the linear limit within their grids' error;
+    Polach's combined linear limit lies along the creepage; Johnson–Vermeulen's force at full
+    sliding keeps the direction of its linear force; the closed forms and FASTSIM take Kalker's
+    tabulated C33, the exact theory and the table their own), never as a wider tolerance for all.
     """
 
     name: ClassVar[str] = ""
@@ -334,6 +422,41 @@ class ContactMethod(ABC):
             if named is None:
                 raise
             raise named from None
+
+    def jacobian(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
+                 b: float, G: float, nu: float, warm_start: ContactResult | None = None,
+                 V: float | None = None, result: ContactResult | None = None) -> Jacobian:
+        """The derivatives of :meth:`step`'s outputs (Fx, Fy, Mz, slip fraction) with respect to
+        ξ, η, φ, N, μ, a, b (and V with the effect 'falling_friction') at this state
+        (:mod:`contact_core.jacobian`): the method's own (:meth:`_jacobian_impl`) where it has
+        them, else central differences of :meth:`step`. ``result``: this state's result, if the
+        caller has it (else solved here, from ``warm_start``)."""
+        falling = self.friction is not None
+        if result is None:
+            result = (self.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start) if not falling
+                      else self.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start,
+                                     0.0 if V is None else V))
+        if N == 0.0:
+            return derivatives.zero(falling)
+        matrix = None
+        if (not falling and result.method == self.name
+                and _moderate(xi, eta, phi, N, mu, a, b, G, nu, self._saturates)):
+            matrix = self._jacobian_impl(xi, eta, phi, N, mu, a, b, G, nu, result)
+        if matrix is None:
+            return derivatives.method_differences(self, xi, eta, phi, N, mu, a, b, G, nu,
+                                                  result, V)
+        eff = self.effects
+        for j, on in enumerate((eff.longitudinal, eff.lateral, eff.spin)):
+            if not on:
+                matrix[:, j] = 0.0
+        return Jacobian(derivatives.OUTPUTS, derivatives.INPUTS, matrix, "analytic")
+
+    def _jacobian_impl(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float,
+                       b: float, G: float, nu: float, result: ContactResult) -> Any:
+        """The analytic derivatives (:data:`contact_core.jacobian.OUTPUTS` by
+        :data:`~contact_core.jacobian.INPUTS`, a numpy array) at a state this method solved
+        directly (in SI units, Coulomb friction), or None: central differences then."""
+        return None
 
     @staticmethod
     def _held(r: ContactResult, bound: float) -> ContactResult:

@@ -42,7 +42,7 @@ def clear_caches() -> None:
 
 
 def compiled_with_data(fn: F, samples: Sequence[tuple], rtol: float = 1e-12,
-                       nogil: bool = True) -> F:
+                       nogil: bool = True, signature: str | None = None) -> F:
     """``fn`` compiled by numba with its on-disk cache, checked against ``fn`` itself.
 
     For a kernel whose data are module-level arrays: numba freezes global arrays into the
@@ -51,9 +51,14 @@ def compiled_with_data(fn: F, samples: Sequence[tuple], rtol: float = 1e-12,
     other data (an edited data file, a new scipy) would be used as it is. The compiled function
     is therefore compared with the interpreted one on ``samples`` (argument tuples) and compiled
     afresh (which rewrites the cache) where any value differs by more than ``rtol``.
+    ``signature`` (numba's, e.g. ``"float64(float64)"``): compiled for those types only, so that
+    other arguments are converted (an int) or refused with a ``TypeError`` (a string) instead
+    of compiling another version.
     """
     import numba
-    kernel = numba.njit(cache=True, nogil=nogil, error_model="numpy")(fn)
+    jit = numba.njit(signature, cache=True, nogil=nogil, error_model="numpy") if signature \
+        else numba.njit(cache=True, nogil=nogil, error_model="numpy")
+    kernel = jit(fn)
 
     def stale() -> bool:
         for args in samples:

@@ -32,19 +32,15 @@ a/b = 10 value and a ``CoefficientExtrapolationWarning`` is issued (shown once b
 default warning filter).
 Beyond the supported range ``A_OVER_B_RANGE`` a ``ValueError`` is raised.
 
-C33 and the exact theory (measured 2026-11-26 with ``contact_core.exact`` on square elements, one
-grid each, ν = 0.28; that solver equals CONTACT's forces and moments on equal grids): C11, C22 and
-C23 of the table agree with the converged exact theory within 1 %, and so does C33 for a/b < 1
-(a/b = 0.5, ν = 0.25: 1.935 against 1.930); at a/b = 1 it is about 2 % above the table (1.245,
-1.213, 1.194 on 50², 100², 200², limit about 1.17 against 1.151).
-For a/b > 1 the exact theory's C33 is lower than the table's, and the grid values approach it from
-above at order 0.6-0.8: a/b = 2, 100×50 0.838, 200×100 0.822, 400×200 0.811 (limit about 0.79-0.80)
-against 0.837; a/b = 5, 100×20 0.705, 200×40 0.642, 400×80 0.607 (limit about 0.56-0.57) against
-0.733. This package keeps Kalker's tabulated C33 (it is what "Kalker's linear theory" and its users
+C33 and the exact theory: C11, C22 and C23 of the table agree with the converged exact theory
+(``contact_core.exact``) within 1 % (tests), and so does C33 for a/b < 1; for a/b > 1 the
+exact theory's C33 is lower than the table's, increasingly with a/b (about 5 % at a/b = 2 and
+30 % at a/b = 5; the grid convergence behind these figures is in docs/notes/coefficients.md).
+This package keeps Kalker's tabulated C33 (it is what "Kalker's linear theory" and its users
 mean; the source of the table's C33 column is the one the file's header names), so at small spin
 with a/b > 1 the spin moment of ``linear`` and of ``johnson_vermeulen`` (and FASTSIM's, whose L4
-is fitted to it) is that much above the one of ``exact`` and ``table``: about 5 % at a/b = 2 and
-30 % at a/b = 5 (test_exact's xfail on C33).
+is fitted to it) is that much above the one of ``exact`` and ``table`` (test_exact's xfail on
+C33; the methods' contract declares it: ``tests/test_method_contract.py``).
 """
 from __future__ import annotations
 
@@ -109,13 +105,12 @@ _BREAKS, _PIECES = _polynomial_pieces(tuple(
     for k in range(4)))
 _LOG_LO, _LOG_HI = math.log(_RATIOS[0]), math.log(_RATIOS[-1])
 # Evaluated in plain floats: ν is a variable like a/b here, and a contact point moving over
-# curved profiles meets a new a/b at every step. Per new (a/b, ν), measured in one run: scipy's
-# four spline calls 21 µs, the polynomials in numpy 6 µs, these loops 2.5 µs (a numba kernel
-# 1.3 µs with the spline as array arguments, 0.35 µs with it frozen into the kernel, but its
-# first call costs 0.2 s in a process that compiles nothing else, as the linear and
-# Johnson-Vermeulen FMUs: :func:`per_call_coefficients` uses it where a/b changes at every call).
-# Code that is compiled anyway (the method "table") calls :func:`spline_coefficients` inside
-# its kernel instead.
+# curved profiles meets a new a/b at every step. Plain-float loops cost a fraction of scipy's
+# spline calls; a numba kernel with the spline frozen into it costs less again but its first
+# call compiles, which processes that compile nothing else (the linear and Johnson-Vermeulen
+# FMUs) are spared: :func:`per_call_coefficients` uses it only where a/b changes at every call
+# (the measurements: docs/notes/coefficients.md). Code that is compiled anyway (the method
+# "table") calls :func:`spline_coefficients` inside its kernel instead.
 _PIECE_LIST = _PIECES[:, :, ::-1, :].tolist()       # (interval, k, power 3..0, ν power 0..2)
 #: The spline as arrays, for :func:`spline_coefficients`: breakpoints in ln(a/b), and per
 #: interval, coefficient k and power 3..0 of (x - x_i) the factors of ν^0, ν^1, ν^2.
@@ -216,7 +211,7 @@ def _coefficients(a_over_b: float, nu: float) -> tuple[float, float, float, floa
     return (c[0], c[1], c[2], c[3])
 
 
-@cached(4096)  # errors are raised, not cached; hits cost ~0.1 µs
+@cached(4096)  # errors are raised, not cached
 def creep_coefficients(a_over_b: float, nu: float) -> tuple[float, float, float, float]:
     """Kalker's coefficients ``(C11, C22, C23, C33)`` for semi-axis ratio a/b and Poisson's ratio ν.
 
@@ -232,6 +227,8 @@ def creep_coefficients(a_over_b: float, nu: float) -> tuple[float, float, float,
 
 
 _TABLE_AB_LO, _TABLE_AB_HI = float(_RATIOS[0]), float(_RATIOS[-1])
+#: a/b of the table's first and last rows: :func:`table_coefficients` applies between them.
+TABLE_A_OVER_B = (_TABLE_AB_LO, _TABLE_AB_HI)
 
 
 def _per_call(a_over_b: float, nu: float) -> tuple[float, float, float, float]:
@@ -264,3 +261,28 @@ def per_call_coefficients(varying: bool) -> Callable[[float, float],
         # object mode holds the GIL in its branch: compiled without nogil (which would warn)
         _PER_CALL = compiled_with_data(_per_call, samples, nogil=False)
     return _PER_CALL
+
+
+def creep_coefficient_slopes(a_over_b: float, nu: float) -> tuple[float, float, float, float]:
+    """The slopes d ln C/d ln(a/b) of Kalker's ``(C11, C22, C23, C33)`` at a/b and ν (the
+    analytic Jacobians' dependence on the semi-axes): inside the table the derivative of its
+    spline (the polynomial pieces of :func:`_table`, differentiated); outside it a central
+    difference in ln(a/b) of step 1e-6 of :func:`creep_coefficients` (Kalker's closed-form
+    asymptotes blended onto the table: smooth, so the difference is within about 1e-9 of the
+    slope; one-sided at the ends of ``A_OVER_B_RANGE``; zero for C33 held beyond a/b = 10).
+    Inputs as :func:`creep_coefficients`."""
+    creep_coefficients(a_over_b, nu)           # its checks (and warning)
+    x = math.log(a_over_b)
+    if _LOG_LO <= x <= _LOG_HI:
+        i = min(max(bisect_right(_BREAKS, x) - 1, 0), len(_BREAKS) - 1)
+        dx = x - _BREAKS[i]
+        return tuple((3.0 * (p3[0] + nu * (p3[1] + nu * p3[2])) * dx
+                      + 2.0 * (p2[0] + nu * (p2[1] + nu * p2[2]))) * dx
+                     + p1[0] + nu * (p1[1] + nu * p1[2])
+                     for p3, p2, p1, _ in _PIECE_LIST[i])
+    h = 1e-6
+    lo, hi = math.log(A_OVER_B_RANGE[0]), math.log(A_OVER_B_RANGE[1])
+    left, right = max(x - h, lo), min(x + h, hi)
+    up = creep_coefficients(math.exp(right), nu)
+    down = creep_coefficients(math.exp(left), nu)
+    return tuple((math.log(u) - math.log(d)) / (right - left) for u, d in zip(up, down))

@@ -30,8 +30,8 @@ linear theory (Kalker 1979, eq 17) defines one flexibility per creepage,
 
 (check: p_x = -ξ (a(y) - x)/L1 gives Fx = -(8/3) a² b ξ / L1 = -G ab C11 ξ;
 p_y = -φ(a(y)² - x²)/(2 L3) gives Fy = -(π/4) a³ b φ / L3 = -G (ab)^{3/2} C23 φ.) These are the
-flexibilities CONTACT uses in its FASTSIM (its ``tractcurv`` example lists FLX1..3, which these
-formulas reproduce to 0.1 %).
+flexibilities CONTACT uses in its FASTSIM (the tests compare them with the FLX1..3 its
+``tractcurv`` example lists).
 
 Option ``flexibility``:
 
@@ -40,21 +40,20 @@ Option ``flexibility``:
     (C11 ξ, C22 η, C23 φ) is reproduced at once, also for combined creepage. In the slip zone the
     stick predictor p_H is brought onto the traction bound along the slip of a bed with the
     flexibility tensor diag(Lx, Ly) (Kalker 1979, eq 34, u = L p, with a diagonal L): the slip
-    over a step is S = diag(Lx, Ly) (p - p_H) and p = -g S/|S|, i.e. p_i = p_H,i t L_i/(1 + t L_i)
-    with the one t > 0 that puts |p| on g (Newton's method). Lx, Ly weight L1, L2 with L3 by the
-    shares of creepage and spin, Lx = (L1|ξ| + L3 c|φ|)/(|ξ| + c|φ|), Ly = (L2|η| + L3 c|φ|)/(|η| +
-    c|φ|), so that with L1 = L2 = L3 this is FASTSIM's radial projection, and in full sliding under
-    (ξ, η) the force is opposite to the creepage (μN at the angle of (ξ, η) as the creepage grows;
-    a radial projection would keep the angle of (ξ/L1, η/L2) instead).
+    over a step is S = diag(Lx, Ly) (p - p_H) and p = -g S/|S|, i.e. p_i = p_H,i/(1 + λ/L_i) with
+    the one λ > 0 that puts |p| on g (the slip law's projection, below). Lx, Ly weight L1, L2 with
+    L3 by the shares of creepage and spin, Lx = (L1|ξ| + L3 c|φ|)/(|ξ| + c|φ|),
+    Ly = (L2|η| + L3 c|φ|)/(|η| + c|φ|), so that with L1 = L2 = L3 this is FASTSIM's radial
+    projection, and in full sliding under (ξ, η) the force is opposite to the creepage (μN at the
+    angle of (ξ, η) as the creepage grows; a radial projection would keep the angle of
+    (ξ/L1, η/L2) instead).
 ``"weighted"`` — Kalker 1982's single flexibility for all directions (Kalker 1979, sec. 5)
 
     L = (L1 |ξ| + L2 |η| + L3 c |φ|) / √(ξ² + η² + c² φ²),   c = √(ab),
 
     which reduces to L1, L2 or L3 for pure ξ, η or φ (the two options then agree exactly). For
-    combined creepage it is too flexible (at ξ = η, L ≈ √2 times the mean of L1 and L2): against
-    the converged exact theory (the benchmark's 400 cases, 20×20, parabolic bound, measured
-    2026-11-27) its |F| error under (ξ, η) is p95 / max 12.3 / 15.7 % of μN where "separate"
-    gives 1.5 / 1.9.
+    combined creepage it is too flexible (at ξ = η, L ≈ √2 times the mean of L1 and L2), and so
+    far from the exact theory under (ξ, η) (docs/notes/fastsim.md).
 
 ``"blended-contact"`` — Vollebregt and Voltr's blend (E. A. H. Vollebregt & P. Voltr, *Improved
     accuracy for FASTSIM using one or three flexibility values*, Vehicle System Dynamics 61 (2023)
@@ -72,14 +71,10 @@ Option ``flexibility``:
     directions (the spin's part L3, by the shares as above): the bed the blend moves towards, so
     under (ξ, η) the slip zone's traction is the stick predictor scaled radially onto the bound,
     as in CONTACT's FASTSIM, and once w = 1, in full sliding, opposite to the creepage. Against the
-    converged exact theory this turns the force under (ξ, η) towards the exact direction: on the
-    benchmark's 80 such cases (parabolic 20×20) within p95 / max 0.53 / 0.75° of it, where the
-    anisotropic slip law of "separate" with the blended flexibilities turned it 1.27 / 1.79° past
-    (measured 2026-11-27; "separate" 0.29 / 0.56°, CONTACT's FASTSIM 0.53 / 0.76°), and
-    simplified theory's own error there (zero element size) is 3.96 / 4.68 % of μN instead of
-    4.56 / 5.29 (docs/fastsim.md). With this slip law this option is within 0.6 % of μN of
-    CONTACT's own FASTSIM on the benchmark's states with spin and creepage where the blend moves
-    CONTACT's by 3-24 % of μN (48×44, tests), and within 0.5 % under (ξ, η) alone.
+    converged exact theory this turns the force under (ξ, η) towards the exact direction, where
+    the anisotropic slip law of "separate" with the blended flexibilities turned it past
+    (docs/notes/fastsim.md); with this slip law the option reproduces CONTACT's own FASTSIM where
+    the blend moves CONTACT's (tests).
 ``"blended"`` (default) — the same blend with w scaled by a power of the creepage's share of
     the linear force, w -> w (F_c / (F_c + F_φ))^p, F_c = |(C11 ξ, C22 η)|, F_φ = C23 c |φ| (this
     package's): Vollebregt and Voltr's weight grows with (ξ, η) alone, so a large spin beside a
@@ -90,28 +85,29 @@ Option ``flexibility``:
     the longitudinal slip has its own flexibility L3^(1-q) L4^q, q = 1/2 (``MOMENT_POWER``), also
     without the saturation effect: with L3 in both spin terms, simplified theory's moment under
     pure spin in stick is Mz = -(8/15) a² b³ φ / L3 (Kalker 1979, eq 16 integrated over the
-    ellipse; only -φy contributes), an effective C33 = 32 C23 (b/a)^{3/2} / (15π), 0.88 C33 at
-    a/b = 1, 0.56 at 5, 0.45 at 10 (ν = 0.28); Kalker's rule for the flexibilities (1979, sec. 5:
+    ellipse; only -φy contributes), an effective C33 = 32 C23 (b/a)^{3/2} / (15π), below C33 and
+    the further the more elongated the contact; Kalker's rule for the flexibilities (1979, sec. 5:
     each fitted to a coefficient of linear theory) gives that term its own L4 = 8b/(15 G C33).
-    Under (ξ, η) without spin both blends are within 0.13 % of μN of "separate" in the vector
-    error's p95 and max (benchmark, both bounds, 20×20 and 48×44; parabolic 20×20 1.54 / 1.92
-    against 1.52 / 1.89 % of μN, measured 2026-11-27); with spin the blend is what they gain.
+    Under (ξ, η) without spin both blends stay close to "separate"; with spin the blend is what
+    they gain (docs/notes/fastsim.md).
 
 How the exponents p and q, the scheme and the bound's default were chosen, against the converged
 exact theory and against CONTACT's own FASTSIM (M=3, built from its source, eve70a/CONTACT d431cdb;
-its results are data in the tests), and the variants tried and not kept, are in docs/fastsim.md;
-``python -m contact_tools.fastsim_vs_contact`` regenerates the comparison
-(docs/fastsim_vs_contact.md). In short (the force by its vector error): with the default options
-this module is not behind CONTACT's FASTSIM in 90 of the 96 figures (20×20 and 48×44, both bounds,
-the benchmark's 400 cases and the three held-out sets of ``python -m contact_tools.table check``,
-p95 and max), nor in any of the 48 of a second draw of the held-out sets. It is behind in 6, by
-0.03-0.24 % of μN, on the benchmark's pure ξ, η, φ (where neither the blend nor the slip law acts)
-and the elliptic bound's (ξ, η) maximum at 48×44 (where "separate" is behind by the same 0.13): the
-two programs differ there in the grid layout (strips here, a rectangle there), and both are within
-0.05 % of μN of simplified theory's own error or below it, each grid's first-order error cancelling
-part of it. Over 17 grids (14×14 to 56×56) it is behind in 6 of the held-out sets' 816 figures (5
-of them on 14×14 to 18×18) and on none of the benchmark's with spin and creepage; without spin,
-which program is ahead depends on the grid.
+its results are data in the tests), and the variants tried and not kept, are in
+docs/notes/fastsim.md; ``python -m contact_tools.fastsim_vs_contact`` regenerates the comparison
+with CONTACT's FASTSIM (docs/reports/fastsim_vs_contact.md). The tests hold the default to it:
+with spin and creepage it is not behind CONTACT's FASTSIM on the same number of elements.
+
+The slip law's projection: with Lx ≠ Ly the slipping traction is p = (p_H,x/(1 + s),
+p_H,y r/(r + s)), r = Ly/Lx, with the one s = λ/Lx > 0 that puts |p| on g, a quartic in s. The
+march takes it in one step, without branches, so that it vectorises (``_project``): from its
+expansion to second order in r - 1 about the radial projection (exact for r = 1), one step of
+Householder's method of order 3 on the condition (a/(1 + s))² + (b r/(r + s))² = 1 (a, b =
+p_H/g), scaled onto the bound. The step's residual decides: where it is not within
+``_PROJECTION_TOL`` of the bound, the whole march is done again with every such element solved
+exactly, by Newton's method on the secular equation 1/|p(s)| = 1/g safeguarded by bisection
+(``_onto_bound``; the form of Moré & Sorensen 1983 for the trust-region step, nearly linear in
+s). Either way the traction is the exact projection to within rounding and that tolerance.
 
 Traction bound g = μ p_n (option ``bound``):
 
@@ -152,19 +148,15 @@ the contact centre, same sign convention as linear theory).
     6θ/nx (summing the march against Kalker 1979 eq 37; θ = ½ gives 3/nx), so θ = 1/6 gives
     every creepage the same first-order excess 1/nx. It is the default because of its accuracy
     against the exact theory, not against FASTSIM's own grid limit: simplified theory
-    under-estimates the force in partial slip, and the first-order excess at 20×20 makes up for
-    much of it (benchmark, 400 cases, 20×20, parabolic bound, flexibility "separate", |F| error
-    p95 / max in % of μN, measured 2026-11-24: pure ξ 1.5 / 1.8 against 3.4 / 4.2 with
-    "midpoint", pure φ 6.3 / 7.4 against 9.7 / 11.6; on CONTACT's published ``tractcurv`` creep
-    curve, exact, 48×44, at 20×20 within 1.9 % of μN where "midpoint" is within 4.8 % and
-    CONTACT's own FASTSIM (48×44) within 3.9 %; docs/fastsim.md, tests).
+    under-estimates the force in partial slip, and the first-order excess at the default grid makes
+    up for much of it (docs/notes/fastsim.md; tests: on CONTACT's published ``tractcurv`` creep
+    curve, exact, it is closer than "midpoint" and than CONTACT's own FASTSIM on its finer grid).
     The layout was taken from CONTACT (Kalker's 1982 listing was not available to check it
     against): this module reproduces CONTACT's ``tractcurv`` FASTSIM column (parabolic bound,
-    48×44 rectangular grid) within 1 % at every published point at the comparable nx = 44,
-    ny = 40 (-0.33 % .. +0.67 %, tests).
+    48×44 rectangular grid) at every published point at the comparable nx = 44, ny = 40 (tests).
 
 Both converge to the same continuum FASTSIM solution (tests: on CONTACT's tractcurv example the
-Richardson-extrapolated "kalker" curve equals the 400×400 "midpoint" curve to 0.02 %); "midpoint"
+Richardson-extrapolated "kalker" curve equals the fine-grid "midpoint" curve); "midpoint"
 converges fastest, O(n⁻²) in stick and, with the parabolic bound, for pure ξ or η, first order in
 partial slip with spin or under (ξ, η).
 
@@ -172,16 +164,13 @@ The traction bound of an element is the mean of μ p_n over it along its strip (
 pressure's primitive, ``_bound_profile``), not its value at the centre. The element's traction p
 stands for its mean traction (F = Σ p ΔA), and Coulomb's law |p(x)| <= μ p_n(x) at every point
 bounds the mean by the mean, |mean p| <= mean μ p_n. Both pressures are concave, so the centre
-value is larger and admits element means that no admissible traction has: in the element at either
-edge of a strip by 6 % with the Hertzian pressure (the mean over the last Δx of √(1 - u²) is 0.94
-times its centre value for any fine grid), 0.9 % (20×20) with the parabolic one. Summed over a
-strip the means give its load exactly; one constant k (depending on nx, ny and the bound only)
-corrects the midpoint rule across the strips so that Σ p_n ΔA = N; full sliding then gives |F| = μN
-at any grid. k - 1 is -0.03 % at 20×20 parabolic and -1/(2 ny² + 1) with the Hertzian pressure
-(-0.12 % at 20×20). Against the converged exact theory the mean instead of the centre value
-lowered 58 of the elliptic bound's 72 figures of docs/fastsim_vs_contact.md, by up to 0.62 % of
-μN, raised 11 by up to 0.20, and put none of either bound's behind CONTACT's FASTSIM, which takes
-the pressure at its element centres as it is (docs/fastsim.md).
+value is larger and admits element means that no admissible traction has, most in the element at
+either edge of a strip and most with the Hertzian pressure. Summed over a strip the means give its
+load exactly; one constant k (depending on nx, ny and the bound only) corrects the midpoint rule
+across the strips so that Σ p_n ΔA = N; full sliding then gives |F| = μN at any grid
+(k = 1/(1 + 1/(2 ny²)) with the Hertzian pressure). CONTACT's FASTSIM takes the pressure at its
+element centres as it is; what the mean changed against the exact theory is in
+docs/notes/fastsim.md.
 
 Known properties of simplified theory (not errors of this code): with three flexibilities
 FASTSIM's Mz differs from linear theory's C33 (the effective C33 of L3 alone in the option
@@ -190,27 +179,29 @@ the tests); and so does FASTSIM's coupling term for Fy/φ vs Mz/η (C32 ≠ -C23
 theory). Of the discretisation, not the theory: under small spin the "kalker" scheme's first-order
 error in p_y (the march's overshoot and the spin term's sample point) has a moment of the order of
 a times the spin's lateral force, which beside the small moment of an elongated contact is not
-small: Mz over linear theory's is 1.03, 1.06, 1.41, 2.68 at a/b = 1, 2, 5, 10 at 20×20 (1.13,
-1.25, 2.08, 4.68 at 10×10), "midpoint" 0.94, 0.88, 0.75, 0.67, the exact theory 1.02, 0.97,
-0.79, 0.69 (φ = 1e-3 1/m, ν = 0.28, measured 2026-11-27); the forces keep the scheme's excess
-1/nx (above). CONTACT's FASTSIM shares the scheme; with its blend ("blended-contact") 2.45 at
-a/b = 10.
+small: the moment at small spin exceeds linear theory's the more, the larger a/b and the coarser
+the grid, where "midpoint" and the exact theory fall below it (docs/notes/fastsim.md); the forces
+keep the scheme's excess 1/nx (above). CONTACT's FASTSIM shares the scheme.
 
 Falling friction (the effect ``falling_friction``, :mod:`contact_core.friction`): with
 ``falling="local"`` (default) each element's bound is the friction at its own slip velocity,
 solved element by element in the march (:mod:`contact_core.fastsim_falling`); with ``"creep"``
 one coefficient at the creep velocity, as CONTACT's FASTSIM. Spiryagin's slope reduction (the
-"modified FASTSIM" of Spiryagin, Polach & Cole 2013; options ``k0``, ``alpha_inf``, ``beta``)
-divides every flexibility by k = k0 (α∞ + (1 - α∞)/(1 + β ε)), with or without falling
-friction; with CONTACT's settings it reproduces the modified-FASTSIM series of CONTACT's
-``tractcurv`` example within 0.7 % of μN (tests, examples/tractcurv_friction.py).
+"modified FASTSIM" of M. Spiryagin, O. Polach & C. Cole, *Creep force modelling for rail traction
+vehicles based on the Fastsim algorithm*, Vehicle System Dynamics 51 (2013) 1765-1783; options
+``k0``, ``alpha_inf``, ``beta``) divides every flexibility by k = k0 (α∞ + (1 - α∞)/(1 + β ε)),
+with or without falling friction; with CONTACT's settings it reproduces the modified-FASTSIM
+series of CONTACT's ``tractcurv`` example (tests, examples/tractcurv_friction.py).
 
 ``fields=True`` returns a :class:`FastsimFields` in ``ContactResult.fields``. ``slip_fraction`` is
 the slipping area over the contact area (of the discrete grid).
 
-Speed: the strip march is one numba kernel (``cache=True``), compiled or loaded from numba's
-cache on first use (``numba`` is imported lazily, so importing ``contact_core`` does not pay for
-it). The no-fields path allocates no arrays.
+Speed: the march is numba kernels (``cache=True``), compiled or loaded from numba's cache on first
+use (``numba`` is imported lazily, so importing ``contact_core`` does not pay for it). It takes
+one element of every strip per step, the strips being independent, so that each step is a loop
+over the strips the compiler vectorises, with the slip law's projection in it (above); its cost
+against a plain kernel is measured by ``python -m contact_tools.bench_fastsim``
+(docs/notes/fastsim.md). The no-fields path allocates one small work array.
 """
 from __future__ import annotations
 
@@ -236,13 +227,13 @@ BOUNDS: tuple[str, ...] = ("parabolic", "elliptic")
 #: CONTACT's Δx_j/6, module docstring). The traction points are the element centres in both.
 SCHEMES: dict[str, tuple[float, float]] = {"midpoint": (0.5, 0.5), "kalker": (1.0, 1.0 / 6.0)}
 #: Exponent p of the creepage's share in the default blend (flexibility "blended"), per bound
-#: (module docstring; measured in docs/fastsim.md): parabolic 1, the smallest maxima; elliptic
+#: (module docstring; measured in docs/notes/fastsim.md): parabolic 1, the smallest maxima; elliptic
 #: 1/3, the largest of 1, 1/2, 1/3 and 1/4 with which none of the elliptic figures the blend
-#: changes is behind CONTACT's FASTSIM (docs/fastsim_vs_contact.md).
+#: changes is behind CONTACT's FASTSIM (docs/reports/fastsim_vs_contact.md).
 SHARE_POWER: dict[str, float] = {"parabolic": 1.0, "elliptic": 1.0 / 3.0}
 #: Exponent q of the spin term of the longitudinal slip's flexibility L3^(1-q) L4^q in the
 #: default blend (flexibility "blended"), per bound (module docstring; measured in
-#: docs/fastsim.md): L4 = 8b/(15 G C33) reproduces linear theory's spin moment; parabolic 1/2,
+#: docs/notes/fastsim.md): L4 = 8b/(15 G C33) reproduces linear theory's spin moment; parabolic 1/2,
 #: elliptic 0 (L3 alone).
 MOMENT_POWER: dict[str, float] = {"parabolic": 0.5, "elliptic": 0.0}
 #: Flexibilities (option ``flexibility``, module docstring): one per creepage blended towards one
@@ -255,6 +246,17 @@ _BLENDED, _BLENDED_CONTACT, _SEPARATE, _WEIGHTED = range(len(FLEXIBILITIES))
 
 # Rows of the fields array the kernel fills when asked.
 _FX, _FY, _FPX, _FPY, _FG, _FSLIP, _FAREA = range(7)
+# Rows of the march's work array by strip (_strips): the strip's centre y, half element length,
+# bound peak and longitudinal stick slope; its last traction, the sums of its tractions and of
+# x p_y, its slipping elements; its last stick predictor, its elements whose projection did not
+# converge.
+(_SY, _SHJ, _SG, _SWX, _SPX, _SPY, _SSX, _SSY, _SSXPY, _SNSL, _SHX, _SHY, _SBAD) = range(13)
+_ROWS = 13
+# The march's strips padded to a multiple of this: doubles in a vector register (4 or 8).
+_LANES = 8
+# The one-step projection (_project) counts as converged where |p|²/g² before its final scaling
+# is within this of 1: the traction then lies within about 1e-13 g of the exact projection.
+_PROJECTION_TOL = 2e-13
 
 
 def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2: float,
@@ -280,68 +282,166 @@ def _march(a: float, b: float, xi: float, eta: float, phi: float, k1: float, k2:
     None or a float array of shape (7, ny, nx) filled with x, y (m), px, py (Pa), bound (Pa),
     slip (0/1), area (m²).
 
+    The strips are independent: the march takes one element of every strip per step
+    (:func:`_sweep`), so that the work of a step is a loop over the strips that the compiler
+    vectorises. Where the slip law is anisotropic its projection is first taken in one
+    branch-free step (:func:`_project`); if any element's did not converge, the march is done
+    again with every such element projected exactly (:func:`_onto_bound`).
+
     Returns (Fx, Fy, Mz, slip area, contact area) in N, N, N·m, m², m².
     """
     dy = 2.0 * b / ny
+    # the anisotropic projection where it differs from the radial one: both components marched
+    # and a bound to project onto (g0 = 0: every slipping traction is 0)
+    aniso = saturate and r21 != 1.0 and do_x and do_y and g0 > 0.0
+    work = _strips(a, b, xi, phi, k1, k3x, g0, elliptic, nx, ny, do_x)
+    if _sweep(work, nx, ny, eta, phi, k2, k3, r21, profile, first, spin_at, do_y, saturate,
+              aniso, False, dy, out) > 0.0:
+        work = _strips(a, b, xi, phi, k1, k3x, g0, elliptic, nx, ny, do_x)
+        _sweep(work, nx, ny, eta, phi, k2, k3, r21, profile, first, spin_at, do_y, saturate,
+               aniso, True, dy, out)
+    return _totals(work, nx, ny, dy, do_mz)
+
+
+def _strips(a: float, b: float, xi: float, phi: float, k1: float, k3x: float, g0: float,
+            elliptic: bool, nx: int, ny: int, do_x: bool) -> Any:
+    """The march's work array, rows ``_SY`` .. ``_SBAD`` by strip: the strip layout of the module
+    docstring, padded to a multiple of ``_LANES`` with strips of no length that never slip (their
+    bound is positive, their tractions stay 0)."""
+    nyp = (ny + _LANES - 1) // _LANES * _LANES
+    work = np.zeros((_ROWS, nyp))
+    for j in range(ny):
+        y = b * (-1.0 + (2.0 * j + 1.0) / ny)
+        s = 1.0 - (y / b) * (y / b)
+        work[_SY, j] = y
+        work[_SHJ, j] = (a * math.sqrt(s) if s > 0.0 else 0.0) / nx   # half element length
+        work[_SG, j] = g0 * (math.sqrt(s) if elliptic else s) if s > 0.0 else 0.0  # its peak
+        # dp_x/dx in stick (Kalker 1979, eq 37)
+        work[_SWX, j] = xi * k1 - phi * y * k3x if do_x else 0.0
+    work[_SG, ny:] = 1.0
+    return work
+
+
+def _predict(px: float, py: float, wx: float, x: float, h: float, ey: float, eta: float,
+             k2: float, phi: float, k3: float, spin_at: float) -> tuple[float, float]:
+    """The stick predictor p_H of Kalker 1979, eq 38: the traction (px, py) of the step before,
+    less the rigid slip over the step [x, x + h] over the flexibilities, its spin term sampled at
+    x + ``spin_at`` h; ``wx`` the longitudinal stick slope (:func:`_strips`), ``ey`` 1 (0: no
+    lateral component)."""
+    return px - wx * h, py - ey * (eta * k2 + phi * (x + spin_at * h) * k3) * h
+
+
+def _settle(tx: Any, ty: Any, nslip: Any, sx: Any, sy: Any, sxpy: Any, j: int, x: float,
+            px: float, py: float, slip: bool) -> None:
+    """Strip j's element at x takes the traction (px, py): kept for the next step and summed."""
+    tx[j] = px
+    ty[j] = py
+    nslip[j] += slip
+    sx[j] += px
+    sy[j] += py
+    sxpy[j] += x * py
+
+
+def _record(out: Any, i: int, j: int, x: float, y: float, px: float, py: float, g: float,
+            slip: bool, da: float) -> None:
+    """Element (j, i) in the fields array (rows ``_FX`` .. ``_FAREA``)."""
+    out[_FX, j, i] = x
+    out[_FY, j, i] = y
+    out[_FPX, j, i] = px
+    out[_FPY, j, i] = py
+    out[_FG, j, i] = g
+    out[_FSLIP, j, i] = 1.0 if slip else 0.0
+    out[_FAREA, j, i] = da
+
+
+def _sweep(work: Any, nx: int, ny: int, eta: float, phi: float, k2: float, k3: float,
+           r21: float, profile: Any, first: float, spin_at: float, do_y: bool,
+           saturate: bool, aniso: bool, exact: bool, dy: float, out: Any) -> float:
+    """March every strip of ``work`` (:func:`_strips`) from its leading edge, one element of all
+    strips per step; arguments as :func:`_march`'s. Slipping tractions are the stick
+    predictor's projection onto the bound: radial, or with ``aniso`` by the slip law's
+    anisotropic projection, first in :func:`_project`'s one step; with ``exact`` every element
+    whose projection did not converge is projected again by :func:`_onto_bound`. Returns the
+    number of elements whose projection was not converged and not projected again."""
+    nyp = work.shape[1]
+    y, hjs, gs, wxs, tx, ty = work[_SY], work[_SHJ], work[_SG], work[_SWX], work[_SPX], work[_SPY]
+    sx, sy, sxpy, nslip, hx, hy, bad = (work[_SSX], work[_SSY], work[_SSXPY], work[_SNSL],
+                                        work[_SHX], work[_SHY], work[_SBAD])
+    ey = 1.0 if do_y else 0.0
+    rho = r21 - 1.0
+    nxf = float(nx)
+    for i in range(nx):
+        ci = nxf - 2.0 * i - 1.0             # the centre a_j - (i + ½) Δx_j = ci hj
+        fh = first if i == 0 else 1.0        # the step over Δx_j: the first from the leading edge
+        prof = profile[i]
+        # two loops, not one with the branch inside: each is vectorised
+        if aniso:
+            for j in range(nyp):
+                hj = hjs[j]
+                x = ci * hj
+                px, py = _predict(tx[j], ty[j], wxs[j], x, fh * (2.0 * hj), ey, eta, k2, phi,
+                                  k3, spin_at)
+                g = gs[j] * prof
+                hx[j] = px
+                hy[j] = py
+                qx, qy, q = _project(px, py, g, r21, rho)
+                slip = px * px + py * py > g * g
+                bad[j] += slip & (not abs(q - 1.0) <= _PROJECTION_TOL)     # NaN: not converged
+                if slip:
+                    px = qx
+                    py = qy
+                _settle(tx, ty, nslip, sx, sy, sxpy, j, x, px, py, slip)
+                if out is not None and j < ny:
+                    _record(out, i, j, x, y[j], px, py, g, slip, 2.0 * hj * dy)
+        else:
+            for j in range(nyp):
+                hj = hjs[j]
+                x = ci * hj
+                px, py = _predict(tx[j], ty[j], wxs[j], x, fh * (2.0 * hj), ey, eta, k2, phi,
+                                  k3, spin_at)
+                g = gs[j] * prof
+                n2 = px * px + py * py
+                slip = saturate & (n2 > g * g)
+                if slip:
+                    f = g / n2 ** 0.5               # ** 0.5: the vectorisable sqrt
+                    px *= f
+                    py *= f
+                _settle(tx, ty, nslip, sx, sy, sxpy, j, x, px, py, slip)
+                if out is not None and j < ny:
+                    _record(out, i, j, x, y[j], px, py, g, slip, 2.0 * hj * dy)
+        if exact:
+            for j in range(ny):
+                if bad[j] != 0.0:
+                    bad[j] = 0.0
+                    qx, qy = _onto_bound(hx[j], hy[j], gs[j] * prof, r21)
+                    dpy = qy - ty[j]
+                    sx[j] += qx - tx[j]
+                    sy[j] += dpy
+                    sxpy[j] += ci * hjs[j] * dpy
+                    tx[j] = qx
+                    ty[j] = qy
+                    if out is not None:
+                        out[_FPX, j, i] = qx
+                        out[_FPY, j, i] = qy
+    return bad.sum()
+
+
+def _totals(work: Any, nx: int, ny: int, dy: float,
+            do_mz: bool) -> tuple[float, float, float, float, float]:
+    """(Fx, Fy, Mz, slip area, contact area) of the marched strips of ``work``: F = Σ p ΔA,
+    Mz = Σ (x p_y - y p_x) ΔA."""
     fx = 0.0
     fy = 0.0
     mz = 0.0
     a_slip = 0.0
     a_tot = 0.0
-    nxf = float(nx)
     for j in range(ny):
-        y = b * (-1.0 + (2.0 * j + 1.0) / ny)
-        s = 1.0 - (y / b) * (y / b)
-        aj = a * math.sqrt(s) if s > 0.0 else 0.0
-        hj = aj / nx                          # half element length
-        dx = 2.0 * hj
-        da = dx * dy
-        gj = g0 * (math.sqrt(s) if elliptic else s) if s > 0.0 else 0.0  # the strip's peak
-        wx = xi * k1 - phi * y * k3x         # dp_x/dx in stick (Kalker 1979, eq 37)
-        px = 0.0
-        py = 0.0
-        spx = 0.0
-        spy = 0.0
-        sxpy = 0.0
-        nslip = 0
-        h = first * dx                        # first step: from the leading edge
-        for i in range(nx):
-            x = (nxf - 2.0 * i - 1.0) * hj   # the centre a_j - (i + ½) Δx_j
-            if do_x:
-                px -= wx * h
-            if do_y:
-                py -= (eta * k2 + phi * (x + spin_at * h) * k3) * h
-            slip = False
-            g = gj * profile[i]
-            if saturate:
-                n2 = px * px + py * py
-                if n2 > g * g:
-                    if r21 == 1.0 or px == 0.0 or py == 0.0:
-                        f = g / math.sqrt(n2)
-                        px *= f
-                        py *= f
-                    else:
-                        px, py = _onto_bound(px, py, g, r21)
-                    slip = True
-                    nslip += 1
-            spx += px
-            spy += py
-            if do_mz:
-                sxpy += x * py
-            if out is not None:
-                out[0, j, i] = x
-                out[1, j, i] = y
-                out[2, j, i] = px
-                out[3, j, i] = py
-                out[4, j, i] = g
-                out[5, j, i] = 1.0 if slip else 0.0
-                out[6, j, i] = da
-            h = dx
-        fx += spx * da
-        fy += spy * da
+        da = 2.0 * work[_SHJ, j] * dy
+        fx += work[_SSX, j] * da
+        fy += work[_SSY, j] * da
         if do_mz:
-            mz += (sxpy - y * spx) * da
-        a_slip += nslip * da
+            mz += (work[_SSXPY, j] - work[_SY, j] * work[_SSX, j]) * da
+        a_slip += work[_SNSL, j] * da
         a_tot += nx * da
     return fx, fy, mz, a_slip, a_tot
 
@@ -404,32 +504,101 @@ def _flexibilities(a: float, b: float, G: float, mu: float, N: float, xi: float,
 
 
 def _onto_bound(hx: float, hy: float, g: float, r21: float) -> tuple[float, float]:
-    """The slipping traction from the stick predictor (hx, hy), |(hx, hy)| > g, for the slip
+    """The slipping traction from the stick predictor (hx, hy), |(hx, hy)| > g > 0, for the slip
     law's flexibility tensor diag(Lx, Ly), r21 = Ly/Lx (module docstring, flexibility
-    "separate"): p = (hx t/(1 + t), hy r21 t/(1 + r21 t)) with t > 0 such that |p| = g.
-    Newton's method on the monotone |p|(t)² - g², started from the isotropic solution."""
-    h = math.sqrt(hx * hx + hy * hy)
-    t = g / (h - g)                          # exact for r21 = 1
-    for _ in range(50):
-        ux = t / (1.0 + t)
-        s = r21 * t
-        uy = s / (1.0 + s)
-        f = (hx * ux) ** 2 + (hy * uy) ** 2 - g * g
-        df = 2.0 * (hx * hx * ux / (1.0 + t) ** 2 + hy * hy * uy * r21 / (1.0 + s) ** 2)
-        step = f / df
-        t_new = t - step
-        if t_new <= 0.0:
-            t_new = 0.5 * t
-        if abs(t_new - t) <= 1e-14 * t:
-            t = t_new
+    "separate"): p = (hx/(1 + s), hy r21/(r21 + s)) with the one s > 0 that puts |p| on g
+    (s = λ/Lx, λ the slip's multiplier; s = |h|/g - 1 for r21 = 1).
+
+    Newton's method on the secular equation 1/|p(s)| = 1/g, nearly linear in s (exactly for
+    r21 = 1; Moré & Sorensen 1983's form for the trust-region step), kept by bisection in the
+    bracket of the isotropic solutions with the smaller and the larger flexibility, started from
+    :func:`_projection_estimate`; converged to rounding, then scaled onto the bound."""
+    n = math.sqrt(hx * hx + hy * hy)
+    a = hx / g
+    b = r21 * hy / g
+    e = n / g - 1.0
+    lo = min(1.0, r21) * e
+    hi = max(1.0, r21) * e
+    s = _projection_estimate(n / g, (hy / n) ** 2, g / n, r21 - 1.0) - 1.0
+    if not lo <= s <= hi:
+        s = 0.5 * (lo + hi)
+    for _ in range(200):
+        u = 1.0 / (1.0 + s)
+        v = 1.0 / (r21 + s)
+        pa2 = (a * u) ** 2
+        pb2 = (b * v) ** 2
+        p2 = pa2 + pb2                       # (|p|/g)², decreasing in s
+        if p2 > 1.0:
+            lo = s
+        else:
+            hi = s
+        s_new = s + p2 * (math.sqrt(p2) - 1.0) / (pa2 * u + pb2 * v)
+        if not lo <= s_new <= hi:
+            s_new = 0.5 * (lo + hi)
+        # converged to rounding in the traction, ∝ 1/(1 + s) and 1/(r21 + s)
+        tol = 8e-16 * (min(1.0, r21) + s)
+        if abs(s_new - s) <= tol or hi - lo <= tol:
+            s = s_new
             break
-        t = t_new
-    ux = t / (1.0 + t)
-    uy = r21 * t / (1.0 + r21 * t)
-    px = hx * ux
-    py = hy * uy
+        s = s_new
+    px = hx / (1.0 + s)
+    py = hy * r21 / (r21 + s)
     f = g / math.sqrt(px * px + py * py)    # land exactly on the bound
     return px * f, py * f
+
+
+def _projection_estimate(z0: float, c2: float, inv_z0: float, rho: float) -> float:
+    """1 + s of :func:`_onto_bound` to second order in ρ = r21 - 1 about the isotropic
+    solution z0 = |h|/g (``c2`` = hy²/|h|², ``inv_z0`` = 1/z0): from the expansion of the
+    condition a²/z² + b²(1 + ρ)²/(z + ρ)² = 1 on the bound (a, b = hx/g, hy/g; z = 1 + s),
+    z = z0 + ρ c² (z0 - 1)(1 + ρ (1 - c²)(z0 - 3)/(2 z0))."""
+    return z0 + rho * c2 * (z0 - 1.0) * (1.0 + rho * (1.0 - c2) * (z0 - 3.0) * (0.5 * inv_z0))
+
+
+def _project(hx: float, hy: float, g: float, r21: float,
+             rho: float) -> tuple[float, float, float]:
+    """:func:`_onto_bound` in one branch-free step, for the vectorised march: from
+    :func:`_projection_estimate` one step of Householder's method of order 3 (quartic
+    convergence) on G(z) = z² - a² - b² r21² z²/(z + ρ)² (z = 1 + s, a, b = hx/g, hy/g; G and
+    its first three derivatives times (z + ρ)^2 .. (z + ρ)^5, so that the step and the traction
+    take one division), scaled onto the bound to second order. Returns (px, py, q),
+    q = |p'|²/g² of the traction p' before that scaling: its distance from 1 is the step's
+    residual (NaN where the step failed, e.g. off the slip zone, where |h| <= g and the result
+    is not used); where it is not within ``_PROJECTION_TOL``, (px, py) is the radial
+    projection instead."""
+    n2 = hx * hx + hy * hy
+    inv = 1.0 / (g * n2)
+    ginv = n2 * inv
+    n = n2 ** 0.5                            # ** 0.5: the vectorisable sqrt
+    z = _projection_estimate(n * ginv, hy * hy * (g * inv), g * g * n * inv, rho)
+    gi2 = ginv * ginv
+    a2 = hx * hx * gi2
+    b2 = r21 * r21 * hy * hy * gi2
+    u = z + rho
+    u2 = u * u
+    z2 = z * z
+    f0 = u2 * (z2 - a2) - b2 * z2
+    br = b2 * rho
+    f1 = (u2 * u - br) * z                   # G', G'' over 2 (G''' = -12 br (z - ρ))
+    f2 = u2 * u2 - br * (u - 3.0 * z)
+    # Householder's ratio (6 G G'² - 3 G² G'')/(6 G'³ - 6 G G' G'' + G² G''') over 6
+    f1f1 = f1 * f1
+    num = f0 * (4.0 * f1f1 - f0 * f2)
+    den = 4.0 * f1 * (2.0 * f1f1 - f0 * f2) - 2.0 * f0 * f0 * br * (z - rho)
+    # the step z' = z - u num/den: 1/z' = den/zd, 1/(z' + ρ) = den/ud
+    zd = z * den - u * num
+    ud = u * (den - num)
+    d = den / (zd * ud)
+    px = hx * ud * d
+    py = hy * r21 * zd * d
+    q = (px * px + py * py) * gi2
+    land = 1.5 - 0.5 * q                     # 1/√q to second order
+    # where the step failed (it overflows for |h|/g beyond about 1e20, or did not converge), the
+    # radial projection: finite, so that the strip's sums stay finite until the element is
+    # projected again exactly (_sweep)
+    ok = abs(q - 1.0) <= _PROJECTION_TOL     # NaN: not converged
+    radial = g / n
+    return (px * land if ok else hx * radial), (py * land if ok else hy * radial), q
 
 
 _KERNELS: tuple[Callable, Callable] | None = None
@@ -437,13 +606,24 @@ _KERNELS: tuple[Callable, Callable] | None = None
 
 def _kernels() -> tuple[Callable, Callable]:
     """The numba-compiled :func:`_march` and :func:`_flexibilities` (imports numba on first use;
-    cached on disk)."""
+    cached on disk). The march's per-element helpers are inlined into its loops: the compiler
+    vectorises a loop only without calls."""
     global _KERNELS
     if _KERNELS is None:
         import numba
-        global _onto_bound
+        global _onto_bound, _projection_estimate, _project, _predict, _settle, _record
+        global _strips, _sweep, _totals
         jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+        inline = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+        _projection_estimate = inline(_projection_estimate)
+        _project = inline(_project)
+        _predict = inline(_predict)
+        _settle = inline(_settle)
+        _record = inline(_record)
         _onto_bound = jit(_onto_bound)
+        _strips = jit(_strips)
+        _sweep = jit(_sweep)
+        _totals = jit(_totals)
         _KERNELS = (jit(_march), jit(_flexibilities))
     return _KERNELS
 
@@ -553,10 +733,10 @@ class Fastsim(ContactMethod):
         :mod:`contact_core.polach`); 0 < k0 <= 1, 0 <= α∞ <= 1, β >= 0. k0 = α∞ = 1 (default):
         Kalker's FASTSIM. With k0 < 1 the linear range's slope is k0 times FASTSIM's.
 
-    Default grid 20×20: it meets the speed budget (about 6 µs per ``solve`` call on the project
-    machine, see ``python -m contact_tools.bench_fastsim``); its accuracy against the exact theory
-    is in docs/fastsim.md and docs/accuracy_vs_time.md. Refine (40×40, 80×80) for smoother traction
-    maps; the error against the exact theory is then dominated by simplified theory itself.
+    Default grid 20×20, for the speed budget (its cost: ``python -m contact_tools.bench_fastsim``;
+    its accuracy against the exact theory: docs/reports/accuracy_vs_time.md,
+    docs/notes/fastsim.md). Refine (40×40, 80×80) for smoother traction maps; the error against
+    the exact theory is then dominated by simplified theory itself.
     """
 
     name = "fastsim"

@@ -31,10 +31,11 @@ one root with r < Φ(r) below it.) The stick test of an element uses its memory 
 zero slip (μ_stat without memory).
 
 Cost: every slipping element solves its equation (where the traction is scaled radially and
-without memory, Newton's steps on r - ρ(c (|p_H| - r g_s)) from the upstream element's root,
-about three evaluations of the law; otherwise the secant steps above, each through the slip
-law's projection), so a march in full sliding costs several times the Coulomb march
-(``python -m contact_tools.bench_falling``, docs/falling_friction.md).
+without memory, Newton's steps on r - ρ(c (|p_H| - r g_s)) from the upstream element's root, a
+few evaluations of the law; otherwise the secant steps above, each through the slip law's
+projection, :func:`contact_core.fastsim._onto_bound`), so a march in full sliding costs a
+multiple of the Coulomb march; the march goes strip by strip, as these solves do not vectorise
+(``python -m contact_tools.bench_falling``, docs/reports/falling_friction.md).
 """
 from __future__ import annotations
 
@@ -44,7 +45,13 @@ from typing import Any, Callable
 from . import fastsim as _fastsim
 from .friction import ratio_and_slope_of, ratio_of
 
+# fastsim's compiled kernels, bound by kernel()
 _onto_bound: Callable | None = None
+_strips: Callable | None = None
+_predict: Callable | None = None
+_settle: Callable | None = None
+_record: Callable | None = None
+_totals: Callable | None = None
 _ratio: Callable | None = None
 _ratio_slope: Callable | None = None
 
@@ -162,43 +169,30 @@ def _march_falling(a: float, b: float, xi: float, eta: float, phi: float, k1: fl
                    spin_at: float, do_x: bool, do_y: bool, do_mz: bool, law: Any, speed: float,
                    memory: float, out: Any) -> tuple[float, float, float, float, float]:
     """:func:`contact_core.fastsim._march` with the bound at each element's slip velocity
-    (module docstring). Besides ``_march``'s arguments: ``lx`` the slip law's Lx (m/Pa),
-    ``law`` (:meth:`~contact_core.friction.FrictionLaw.params`), ``speed`` the rolling speed
-    (m/s, > 0), ``memory`` the memory distance d_c (m; 0: none); ``g0`` is the static bound's
-    peak. ``out`` row 4 holds each element's bound g = μ(s) p_n."""
+    (module docstring), on its strips (``_strips``, ``_predict``, ``_settle``, ``_record``,
+    ``_totals`` of :mod:`contact_core.fastsim`). Besides ``_march``'s arguments: ``lx`` the
+    slip law's Lx (m/Pa), ``law`` (:meth:`~contact_core.friction.FrictionLaw.params`),
+    ``speed`` the rolling speed (m/s, > 0), ``memory`` the memory distance d_c (m; 0: none);
+    ``g0`` is the static bound's peak. ``out`` row 4 holds each element's bound g = μ(s) p_n."""
     dy = 2.0 * b / ny
-    fx = 0.0
-    fy = 0.0
-    mz = 0.0
-    a_slip = 0.0
-    a_tot = 0.0
+    work = _strips(a, b, xi, phi, k1, k3x, g0, elliptic, nx, ny, do_x)
+    y, hjs, gss, wxs, tx, ty = (work[_fastsim._SY], work[_fastsim._SHJ], work[_fastsim._SG],
+                                work[_fastsim._SWX], work[_fastsim._SPX], work[_fastsim._SPY])
+    sx, sy, sxpy, nslip = (work[_fastsim._SSX], work[_fastsim._SSY], work[_fastsim._SSXPY],
+                           work[_fastsim._SNSL])
+    ey = 1.0 if do_y else 0.0
     nxf = float(nx)
     s0 = law[7]
+    # strip by strip (the elements' root solves do not vectorise)
     for j in range(ny):
-        y = b * (-1.0 + (2.0 * j + 1.0) / ny)
-        s = 1.0 - (y / b) * (y / b)
-        aj = a * math.sqrt(s) if s > 0.0 else 0.0
-        hj = aj / nx
-        dx = 2.0 * hj
-        da = dx * dy
-        gj = g0 * (math.sqrt(s) if elliptic else s) if s > 0.0 else 0.0
-        wx = xi * k1 - phi * y * k3x
-        px = 0.0
-        py = 0.0
-        spx = 0.0
-        spy = 0.0
-        sxpy = 0.0
-        nslip = 0
+        hj = hjs[j]
         mu_up = 1.0                          # μ/μ_stat of the material entering the contact
         guess = -1.0                         # the last slipping element's root
-        h = first * dx
         for i in range(nx):
             x = (nxf - 2.0 * i - 1.0) * hj
-            if do_x:
-                px -= wx * h
-            if do_y:
-                py -= (eta * k2 + phi * (x + spin_at * h) * k3) * h
-            gs = gj * profile[i]
+            h = (first if i == 0 else 1.0) * (2.0 * hj)
+            px, py = _predict(tx[j], ty[j], wxs[j], x, h, ey, eta, k2, phi, k3, spin_at)
+            gs = gss[j] * profile[i]
             dt_per_v = h / speed             # time to cross the step, per unit slip velocity
             mu_stick = 1.0
             if memory > 0.0:
@@ -209,7 +203,6 @@ def _march_falling(a: float, b: float, xi: float, eta: float, phi: float, k1: fl
             n2 = px * px + py * py
             if n2 > g * g:
                 slip = True
-                nslip += 1
                 if gs > 0.0:
                     r = _slip_ratio(px, py, gs, r21, speed * lx / h, law, mu_up, memory,
                                     dt_per_v, guess)
@@ -229,26 +222,10 @@ def _march_falling(a: float, b: float, xi: float, eta: float, phi: float, k1: fl
                     px, py = _onto_bound(px, py, g, r21)
             else:
                 mu_up = mu_stick
-            spx += px
-            spy += py
-            if do_mz:
-                sxpy += x * py
+            _settle(tx, ty, nslip, sx, sy, sxpy, j, x, px, py, slip)
             if out is not None:
-                out[0, j, i] = x
-                out[1, j, i] = y
-                out[2, j, i] = px
-                out[3, j, i] = py
-                out[4, j, i] = g
-                out[5, j, i] = 1.0 if slip else 0.0
-                out[6, j, i] = da
-            h = dx
-        fx += spx * da
-        fy += spy * da
-        if do_mz:
-            mz += (sxpy - y * spx) * da
-        a_slip += nslip * da
-        a_tot += nx * da
-    return fx, fy, mz, a_slip, a_tot
+                _record(out, i, j, x, y[j], px, py, g, slip, 2.0 * hj * dy)
+    return _totals(work, nx, ny, dy, do_mz)
 
 
 _KERNEL: Callable | None = None
@@ -256,12 +233,15 @@ _KERNEL: Callable | None = None
 
 def kernel() -> Callable:
     """The numba-compiled :func:`_march_falling` (compiled on first use; cached on disk)."""
-    global _KERNEL, _onto_bound, _ratio, _ratio_slope, _phi, _slip_ratio_radial, _slip_ratio
+    global _KERNEL, _ratio, _ratio_slope, _phi, _slip_ratio_radial, _slip_ratio
+    global _onto_bound, _strips, _predict, _settle, _record, _totals
     if _KERNEL is None:
         import numba
-        _fastsim._kernels()                  # compiles fastsim's _onto_bound
+        _fastsim._kernels()                  # compiles fastsim's march and its helpers
         jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-        _onto_bound = _fastsim._onto_bound
+        _onto_bound, _strips, _predict, _settle, _record, _totals = (
+            _fastsim._onto_bound, _fastsim._strips, _fastsim._predict, _fastsim._settle,
+            _fastsim._record, _fastsim._totals)
         _ratio = jit(ratio_of)
         _ratio_slope = jit(ratio_and_slope_of)
         _phi = jit(_phi)

@@ -41,9 +41,10 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+from numba.extending import register_jitable
 from scipy.interpolate import BSpline, PPoly, make_interp_spline
 from scipy.optimize import brentq
-from scipy.special import ellipe, ellipkm1, elliprd, elliprf
+from scipy.special import ellipe, ellipk, ellipkm1, elliprd, elliprf
 
 from .cache import compiled_with_data
 from .material import contact_modulus
@@ -52,8 +53,10 @@ from .material import contact_modulus
 CURVATURE_RATIO_RANGE: tuple[float, float] = (1e-3, 1e3)
 
 
+@register_jitable
 def max_pressure(N: float, a: float, b: float) -> float:
-    """Hertz's peak pressure p0 = 3N/(2πab), Pa (Kalker 1979, eq 3 at the centre)."""
+    """Hertz's peak pressure p0 = 3N/(2πab), Pa (Kalker 1979, eq 3 at the centre; also
+    compiled into kernels: numba's ``register_jitable``)."""
     return 1.5 * (N / (math.pi * a * b))  # N divided first: finite up to the largest N
 
 
@@ -79,6 +82,29 @@ def held_spin_moment(mz: float, mu_n: float, a: float, b: float) -> float:
     if abs(mz) > 0.375 * mu_n * (a if a > b else b):
         return math.copysign(min(abs(mz), coulomb_spin_moment(mu_n, a, b)), mz)
     return mz
+
+
+def held_spin_moment_derivatives(mz: float, mu_n: float, a: float,
+                                 b: float) -> tuple[float, float, float, float, float]:
+    """:func:`held_spin_moment` and its derivatives with respect to ``mz``, ``mu_n``, ``a``,
+    ``b`` (for the analytic Jacobians): (mz, 1, 0, 0, 0) where the moment is not held; where
+    it is, those of the bound B = 3μN P/32 = 0.375 μN α E(m), m = 1 - (β/α)² (α >= β the
+    semi-axes, E the complete elliptic integral of the second kind; dE/dm = (E - K)/(2m),
+    DLMF 19.4.1, and -π/8 - 3πm/64 for m < 1e-4, its series)."""
+    held = held_spin_moment(mz, mu_n, a, b)
+    if held == mz:
+        return mz, 1.0, 0.0, 0.0, 0.0
+    alpha, beta = (a, b) if a >= b else (b, a)
+    q = (beta / alpha) ** 2
+    m = 1.0 - q
+    e = float(ellipe(m))
+    de = (-math.pi / 8.0 - 3.0 * math.pi * m / 64.0 if m < 1e-4
+          else (e - float(ellipk(m))) / (2.0 * m))
+    sign = math.copysign(1.0, mz)
+    d_alpha = sign * 0.375 * mu_n * (e + 2.0 * q * de)
+    d_beta = -sign * 0.75 * mu_n * (beta / alpha) * de
+    d_a, d_b = (d_alpha, d_beta) if a >= b else (d_beta, d_alpha)
+    return held, 0.0, held / mu_n, d_a, d_b
 
 
 @dataclass(frozen=True)
@@ -215,6 +241,35 @@ def tabulated_patch(N: float, A: float, B: float, e_star: float) -> tuple[float,
     minor = math.exp(ln_g) * major
     a, b = (major, minor) if A <= B else (minor, major)
     return a, b, 1.5 * (N / (math.pi * a * b))      # max_pressure's arithmetic
+
+
+def tabulated_patch_derivatives(N: float, A: float, B: float,
+                                e_star: float) -> tuple[float, float, float, np.ndarray]:
+    """:func:`tabulated_patch`'s (a, b, p0) and their derivatives with respect to (N, A, B)
+    (a 3 x 3 array; for the Jacobians of a contact whose curvatures are inputs): its quintic
+    pieces differentiated. With x = ln(q), q the larger over the smaller curvature, the major
+    semi-axis is k(x) (N/(E* A'))^(1/3) and the minor g(x) times it (module docstring), so
+    d ln(major) = dN/(3N) - (1/3 + k'/k) dA'/A' + (k'/k) dA''/A'' (A' the smaller curvature,
+    A'' the larger), the minor's adds (g'/g)(dA''/A'' - dA'/A'), and
+    d ln p0 = dN/N - d ln a - d ln b. Valid inputs only (a finite patch)."""
+    a, b, p0 = tabulated_patch(N, A, B, e_star)
+    small = A if A <= B else B
+    x = math.log((B if A <= B else A) / small)
+    i = min(int(np.searchsorted(_LN_Q, x, side="right")) - 1, _LN_Q.shape[0] - 1)
+    dx = x - _LN_Q[i]
+    p = _PIECES[i]
+    dln_g, dln_k = (float(np.polyval(np.polyder(p[j]), dx)) for j in range(2))
+    # d ln(major), d ln(minor) by (ln N, ln A', ln A'')
+    major = np.array([1.0 / 3.0, -1.0 / 3.0 - dln_k, dln_k])
+    minor = major + np.array([0.0, -dln_g, dln_g])
+    la, lb = (major, minor) if A <= B else (minor, major)
+    lp = np.array([1.0, 0.0, 0.0]) - la - lb
+    # columns: by (ln N, ln A', ln A'') -> by (N, A, B)
+    to_nab = np.array([[1.0 / N, 0.0, 0.0],
+                       [0.0, 1.0 / A, 0.0] if A <= B else [0.0, 0.0, 1.0 / B],
+                       [0.0, 0.0, 1.0 / B] if A <= B else [0.0, 1.0 / A, 0.0]])
+    d = np.array([a * la, b * lb, p0 * lp]) @ to_nab
+    return a, b, p0, d
 
 
 _PATCH_KERNEL = None

@@ -50,12 +50,13 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from scipy.special import elliprd, elliprf
 
 from .cache import cached
 from .base import ContactMethod, choice_option
-from .coefficients import per_call_coefficients
-from .hertz import held_spin_moment
+from .coefficients import creep_coefficient_slopes, creep_coefficients, per_call_coefficients
+from .hertz import held_spin_moment, held_spin_moment_derivatives
 from .result import make_result
 
 
@@ -101,6 +102,80 @@ class JohnsonVermeulen(ContactMethod):
         self._original = self.options["variant"] == "original"
         self._use_spin = self.options["spin"] == "she"
         self._coefficients = per_call_coefficients(self.effects.varying_geometry)
+
+    def _jacobian_impl(self, xi, eta, phi, N, mu, a, b, G, nu, result):
+        """The derivatives of the law (:mod:`contact_core.jacobian`): of the linear forces
+        (as linear theory's), then of the scaling ε(τ) = 1 - τ/3 + τ²/27 for τ < 3 (the cubic
+        of eq 13 divided by τ, exactly) and 1/τ beyond, τ = |F_linear|/(μN), and of Coulomb's
+        bound on the moment where it holds it. Where the linear force vanishes τ's kink is
+        taken as flat (dτ = 0: the forces' derivative is then linear theory's), and so is the
+        slip fraction's there. ``variant="original"``: Johnson–Vermeulen's C11, C22 differ
+        from Kalker's, their slope in a/b a central difference of step 1e-4 in ln(a/b) (near
+        a/b = 1 eq 11's C = (D - B)/m loses the digits of m = |1 - (a/b)^±2|: a smaller step
+        sees them)."""
+        r = a / b
+        c11, c22, c23, c33 = creep_coefficients(r, nu)
+        l11, l22, l23, l33 = creep_coefficient_slopes(r, nu)
+        if self._original:
+            c11, c22 = jv_creep_coefficients(r, nu)
+            h = 1e-4
+            up, down = jv_creep_coefficients(r * math.exp(h), nu), \
+                jv_creep_coefficients(r * math.exp(-h), nu)
+            l11, l22 = ((math.log(u) - math.log(d)) / (2.0 * h) for u, d in zip(up, down))
+        use_spin = self._use_spin
+        if not use_spin:
+            phi = 0.0
+        c2 = a * b
+        c = math.sqrt(c2)
+        # the linear forces and moment and their gradients by (ξ, η, φ, N, μ, a, b): each term
+        # K a^p b^q C(a/b) x has ∂/∂a = term (p + l)/a, ∂/∂b = term (q - l)/b
+        fx = -G * c2 * c11 * xi
+        d_fx = np.array([-G * c2 * c11, 0.0, 0.0, 0.0, 0.0, fx * (1.0 + l11) / a,
+                         fx * (1.0 - l11) / b])
+        t_eta, t_phi = -G * c2 * c22 * eta, -G * c2 * c * c23 * phi
+        fy = t_eta + t_phi
+        d_fy = np.array([0.0, -G * c2 * c22, -G * c2 * c * c23 if use_spin else 0.0, 0.0, 0.0,
+                         (t_eta * (1.0 + l22) + t_phi * (1.5 + l23)) / a,
+                         (t_eta * (1.0 - l22) + t_phi * (1.5 - l23)) / b])
+        mz = 0.0
+        d_mz = np.zeros(7)
+        if use_spin:
+            m_eta, m_phi = G * c2 * c * c23 * eta, -G * c2 * c2 * c33 * phi
+            mz = m_eta + m_phi
+            d_mz = np.array([0.0, G * c2 * c * c23, -G * c2 * c2 * c33, 0.0, 0.0,
+                             (m_eta * (1.5 + l23) + m_phi * (2.0 + l33)) / a,
+                             (m_eta * (1.5 - l23) + m_phi * (2.0 - l33)) / b])
+        eps, d_eps, d_slip = 1.0, np.zeros(7), np.zeros(7)
+        sat = self.effects.saturation
+        mun = mu * N
+        d_mun = np.array([0.0, 0.0, 0.0, mu, N, 0.0, 0.0])
+        if sat:
+            f = math.hypot(fx, fy)
+            tau = f / mun
+            d_tau = ((fx * d_fx + fy * d_fy) / f / mun - tau * d_mun / mun) if f > 0.0 \
+                else np.zeros(7)
+            if tau >= 3.0:
+                eps, d_eps = 1.0 / tau, -d_tau / (tau * tau)
+            elif tau > 0.0:
+                s3 = 1.0 - tau / 3.0
+                eps = (1.0 - s3 * s3 * s3) / tau
+                d_eps = (-1.0 / 3.0 + 2.0 * tau / 27.0) * d_tau
+                d_slip = 2.0 * s3 / 3.0 * d_tau
+        J = np.zeros((4, 7))
+        eff = self.effects
+        if eff.longitudinal:
+            J[0] = eps * d_fx + fx * d_eps
+        if eff.lateral:
+            J[1] = eps * d_fy + fy * d_eps
+        if eff.spin:
+            J[2] = eps * d_mz + mz * d_eps
+            if sat:
+                _, h_mz, h_mun, h_a, h_b = held_spin_moment_derivatives(eps * mz, mun, a, b)
+                J[2] = h_mz * J[2] + h_mun * d_mun
+                J[2, 5] += h_a
+                J[2, 6] += h_b
+        J[3] = d_slip
+        return J
 
     def _step_impl(self, xi, eta, phi, N, mu, a, b, G, nu, warm_start):
         r = a / b

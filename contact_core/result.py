@@ -33,6 +33,9 @@ class ContactResult:
         Method-specific traction fields when requested with ``fields=True``, else None.
     warm_state : Any
         Opaque state a method can start from at the next nearby call (``warm_start=result``).
+    jacobian : Jacobian or None
+        With ``solve(..., jacobian=True)``: the derivatives of the outputs with respect to the
+        inputs (:class:`contact_core.jacobian.Jacobian`), else None.
     """
 
     Fx: float
@@ -45,10 +48,11 @@ class ContactResult:
     residual: float = 0.0
     fields: Any = None
     warm_state: Any = None
+    jacobian: Any = None
 
 
 _DEFAULTS = {"slip_fraction": 0.0, "converged": True, "iterations": 0, "residual": 0.0,
-             "fields": None, "warm_state": None}
+             "fields": None, "warm_state": None, "jacobian": None}
 _new = object.__new__
 
 
@@ -57,8 +61,8 @@ def make_result(Fx: float, Fy: float, Mz: float, method: str, slip_fraction: flo
     """``ContactResult(Fx, Fy, Mz, method, slip_fraction=..., fields=...)`` for hot paths.
 
     Same object, built by filling its ``__dict__`` instead of calling the frozen-dataclass
-    ``__init__`` (one ``object.__setattr__`` per field): measured 0.4 µs instead of 1.1 µs, which
-    is most of the per-call budget of the linear and Johnson–Vermeulen laws.
+    ``__init__`` (one ``object.__setattr__`` per field), which would cost a large part of the
+    per-call budget of the linear and Johnson–Vermeulen laws (docs/notes/performance.md).
     """
     r = _new(ContactResult)
     d = r.__dict__

@@ -105,10 +105,6 @@ def parse_scene(text: str, name: str) -> Scene:
         if getattr(effects, needs) and not effects.saturation:
             raise ValueError(f"scene {name!r}: effect {needs!r} needs 'saturation' (without "
                              "saturation the friction coefficient does not enter the result)")
-    if effects.falling_friction and effects.varying_geometry:
-        # the evaluator of a varying geometry takes no rolling speed (yet)
-        raise ValueError(f"scene {name!r}: effects 'falling_friction' and 'varying_geometry' "
-                         "together are not supported: allowed one of them")
     description = data.get("description", "")
     if not isinstance(description, str):
         raise ValueError(f"scene {name!r}: description must be a string")

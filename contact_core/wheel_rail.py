@@ -31,6 +31,10 @@ semi-axis <= 0), is a ``ValueError`` naming the input and its range, and the eva
 state. With ``N <= 0`` (lifted) the geometry must be finite and is otherwise not used (a
 contact search that found no contact may pass anything finite).
 
+Derivatives: each evaluator's ``jacobian`` (same arguments as ``evaluate``) gives those of its
+outputs with respect to its inputs, the method's (:mod:`contact_core.jacobian`) chained through
+the patch; several contacts evaluated together: :mod:`contact_core.contacts`.
+
     >>> import contact_core as cc
     >>> ev = cc.WheelRailEvaluator(cc.WheelRailConfig(method="johnson_vermeulen"))
     >>> r = ev.evaluate(xi=1e-3, eta=0.0, phi=0.0, N=100e3, mu=0.3)
@@ -43,12 +47,16 @@ import math
 from dataclasses import dataclass
 from typing import Any, Mapping
 
+import numpy as np
+from numba.extending import register_jitable
+
 from .api import METHODS, make_solver
 from .base import _speed, check_inputs
 from .effects import ALL_EFFECTS, Effects, as_effects
 from .friction import FrictionLaw
 from .hertz import (CURVATURE_RATIO_RANGE, HertzPatch, hertz_geometry, max_pressure,
-                    patch_kernel, wheel_rail_curvatures)
+                    patch_kernel, tabulated_patch_derivatives, wheel_rail_curvatures)
+from .jacobian import Jacobian
 from .material import contact_modulus
 from .material import shear_modulus
 from .result import ContactResult, make_result
@@ -202,13 +210,47 @@ class WheelRailEvaluator:
                                 else self._codes[result.method])
             return result
         if -_INF < N <= 0.0:
-            check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
-            if V is not None:
-                _speed(V)
+            self._check_lifted(xi, eta, phi, mu, V)
             self.a = self.b = self.p0 = 0.0
             self.method_code = self._code
             return self._lifted
         raise out_of_range("N", N)
+
+    def _check_lifted(self, xi: float, eta: float, phi: float, mu: float,
+                      V: float | None) -> None:
+        """The checks of a lifted wheel's inputs (finite; ``ValueError`` naming one)."""
+        check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
+        if V is not None:
+            _speed(V)
+
+    def jacobian(self, xi: float, eta: float, phi: float, N: float, mu: float | None = None,
+                 V: float | None = None) -> Jacobian:
+        """The derivatives of :meth:`evaluate`'s outputs (Fx, Fy, Mz, a, b, p0, slip fraction)
+        with respect to its inputs (ξ, η, φ, N, μ and, with the effect 'falling_friction', V)
+        at these inputs, in SI units; the evaluator's state is not changed. The method's
+        (:meth:`~contact_core.base.ContactMethod.jacobian`, from the warm start ``last``)
+        chained through Hertz's patch of the load: a, b ∝ N^{1/3}, so ∂a/∂N = a/(3N), and
+        p0 = 3N/(2πab) ∝ N^{1/3} (Kalker 1979 sec. 2, eq 3). Lifted (N <= 0): zero."""
+        if mu is None:
+            mu = self.mu
+        if V is not None and self.solver.friction is None and V:
+            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
+                             "selected: allowed None or 0, or select the effect")
+        names = ("xi", "eta", "phi", "N", "mu") + (("V",) if self.solver.friction else ())
+        outputs = EVALUATOR_OUTPUTS
+        if not 0.0 < N < _INF:
+            if not -_INF < N <= 0.0:
+                raise out_of_range("N", N)
+            self._check_lifted(xi, eta, phi, mu, V)
+            return Jacobian(outputs, names, np.zeros((len(outputs), len(names))), "zero")
+        s = N ** _THIRD
+        a, b = self._ka * s, self._kb * s
+        p0 = max_pressure(N, a, b)
+        patch = np.zeros((3, len(names)))
+        patch[:, 3] = (a / (3.0 * N), b / (3.0 * N), p0 / (3.0 * N))
+        core = self.solver.jacobian(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last,
+                                    V if self.solver.friction else None)
+        return _chain(core, patch, names, outputs)
 
     def check_outputs(self, N: float, mu: float, Fx: float, Fy: float, a: float, b: float,
                       p0: float, slip_fraction: float) -> None:
@@ -232,6 +274,29 @@ class WheelRailEvaluator:
                                  f"allowed {name}={expected!r}")
         _check_law(self.config.effects.saturation and self.solver.saturates, N, mu, Fx, Fy,
                    slip_fraction)
+
+
+#: The outputs of an evaluator's Jacobian: forces, moment, the patch, the slip fraction.
+EVALUATOR_OUTPUTS = ("Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction")
+#: ... with the caller's semi-axes as inputs (``geometry_input="semi_axes"``).
+SEMI_AXES_OUTPUTS = ("Fx", "Fy", "Mz", "p0", "slip_fraction")
+
+
+def _chain(core: Jacobian, patch: np.ndarray, names: tuple[str, ...],
+           outputs: tuple[str, ...]) -> Jacobian:
+    """An evaluator's Jacobian from the method's ``core`` (by ξ, η, φ, N, μ, a, b[, V]) and
+    the patch's derivatives ``patch`` (rows a, b, p0 by the evaluator's inputs ``names``):
+    ∂F/∂x = ∂F/∂x|_(a, b) + ∂F/∂a ∂a/∂x + ∂F/∂b ∂b/∂x."""
+    m = core.matrix                     # rows Fx, Fy, Mz, slip fraction
+    ia, ib = core.inputs.index("a"), core.inputs.index("b")
+    law = np.outer(m[:, ia], patch[0]) + np.outer(m[:, ib], patch[1])
+    for j, name in enumerate(names):
+        if name in core.inputs and name not in ("a", "b"):   # a, b: the caller's semi-axes
+            law[:, j] += m[:, core.inputs.index(name)]
+    rows = {"Fx": law[0], "Fy": law[1], "Mz": law[2], "slip_fraction": law[3],
+            "a": patch[0], "b": patch[1], "p0": patch[2]}
+    return Jacobian(outputs, names, np.array([rows[o] for o in outputs]),
+                    f"{core.how}; the patch's analytic", core.steps)
 
 
 def _check_law(saturating: bool, N: float, mu: float, Fx: float, Fy: float,
@@ -261,7 +326,9 @@ class VaryingGeometryConfig:
     """Fixed data of one wheel–rail contact whose geometry is an input at every step (the effect
     ``varying_geometry``; SI units): the method, the effects, the friction coefficient used
     when a call gets none, Young's modulus ``E`` (Pa) and Poisson's ratio ``nu`` of both
-    bodies, the method's ``options``, and what the geometry at a call is, ``geometry_input``
+    bodies, the method's ``options``, the law of the effect ``falling_friction`` (``friction``:
+    None for ``FrictionLaw()``; :meth:`VaryingGeometryEvaluator.evaluate` then takes the
+    rolling speed ``V``), and what the geometry at a call is, ``geometry_input``
     (:data:`contact_core.variables.GEOMETRY_INPUTS`): "curvatures", the relative curvatures
     A, B of the two surfaces at the contact point, of which the evaluator solves Hertz's patch,
     or "semi_axes", the semi-axes a, b of a patch the caller computes. Defaults and ranges:
@@ -274,6 +341,7 @@ class VaryingGeometryConfig:
     nu: float = DEFAULTS["nu"]
     options: Mapping[str, Any] | tuple[tuple[str, Any], ...] = ()
     geometry_input: str = GEOMETRY_INPUTS[0]
+    friction: FrictionLaw | None = None
 
     def __post_init__(self) -> None:
         items = self.options.items() if isinstance(self.options, Mapping) else self.options
@@ -287,17 +355,16 @@ class VaryingGeometryConfig:
         if not self.effects.varying_geometry:
             raise ValueError("effects: VaryingGeometryConfig needs the effect 'varying_geometry' "
                              "(a fixed geometry: WheelRailConfig)")
-        if self.effects.falling_friction:
-            raise ValueError("effects: 'falling_friction' with 'varying_geometry' is not "
-                             "supported by the evaluator (it takes no rolling speed)")
         geometry_names(self.geometry_input)
         for name in ("mu", "E", "nu"):
             check(name, getattr(self, name))
 
 
+@register_jitable
 def _semi_axes_patch(N: float, a: float, b: float, e_star: float) -> tuple[float, float, float]:
     """The patch of semi-axes ``a``, ``b`` (m) under ``N``: Hertz's peak pressure 3N/(2πab)
-    (Kalker 1979 eq 3); (nan, nan, nan) for a semi-axis that is not finite and positive."""
+    (Kalker 1979 eq 3); (nan, nan, nan) for a semi-axis that is not finite and positive (also
+    compiled into the kernel of :mod:`.contacts`)."""
     if 0.0 < a < _INF and 0.0 < b < _INF:
         return a, b, 1.5 * (N / (math.pi * a * b))      # max_pressure's arithmetic
     return math.nan, math.nan, math.nan
@@ -312,7 +379,8 @@ class VaryingGeometryEvaluator:
     def __init__(self, config: VaryingGeometryConfig) -> None:
         config.check()
         self.config = config
-        self.solver = make_solver(config.method, config.effects, **dict(config.options))
+        self.solver = make_solver(config.method, config.effects, config.friction,
+                                  **dict(config.options))
         self.G = shear_modulus(config.E, config.nu)
         self.nu = config.nu
         self.mu = config.mu
@@ -330,21 +398,29 @@ class VaryingGeometryEvaluator:
         self.last: ContactResult | None = None
 
     def evaluate(self, xi: float, eta: float, phi: float, N: float, mu: float | None, gx: float,
-                 gy: float) -> ContactResult:
+                 gy: float, V: float | None = None) -> ContactResult:
         """Forces of one step from the creepages ``xi, eta`` (1), spin ``phi`` (1/m), load ``N``
         (N), friction ``mu`` (None: the configuration's) and the geometry along the rolling
         direction x and across it, ``gx, gy``: the relative curvatures A, B (1/m) of the two
         surfaces at the contact point (gap h = A x² + B y²), or with ``geometry_input=
         "semi_axes"`` the semi-axes a, b (m) of the caller's patch (e.g. a non-Hertzian or
-        multi-Hertzian contact model's). Sets ``a``, ``b``, ``p0``: Hertz's patch of the
-        curvatures, or the caller's with Hertz's peak pressure 3N/(2πab)."""
+        multi-Hertzian contact model's); the rolling speed ``V`` (m/s) with the effect
+        ``falling_friction`` (None: 0, static friction). Sets ``a``, ``b``, ``p0``: Hertz's
+        patch of the curvatures, or the caller's with Hertz's peak pressure 3N/(2πab)."""
         if mu is None:
             mu = self.mu
+        if V is not None and self.solver.friction is None:
+            if V:
+                raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
+                                 "selected: allowed None or 0, or select the effect")
+            V = None
         if 0.0 < N < _INF:
             a, b, p0 = self._patch(N, gx, gy, self._e_star)
             if a != a:          # nan: no patch for this geometry
                 raise self._geometry_error(gx, gy)
-            result = self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last)
+            result = (self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last)
+                      if V is None else
+                      self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last, V))
             if not math.isfinite(result.Fx + result.Fy + result.Mz):  # a method's bug
                 raise FloatingPointError(
                     f"method {result.method!r} returned non-finite forces (Fx={result.Fx!r}, "
@@ -358,15 +434,59 @@ class VaryingGeometryEvaluator:
                                 else self._codes[result.method])
             return result
         if -_INF < N <= 0.0:
-            check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
-            for name, v in zip(self.geometry, (gx, gy)):
-                if not math.isfinite(v):
-                    raise ValueError(f"{name}={v!r} is out of range: allowed a finite number "
-                                     "(any finite value while the wheel is lifted, N <= 0)")
+            self._check_lifted(xi, eta, phi, mu, gx, gy, V)
             self.a = self.b = self.p0 = 0.0
             self.method_code = self._code
             return self._lifted
         raise out_of_range("N", N)
+
+    def _check_lifted(self, xi: float, eta: float, phi: float, mu: float, gx: float, gy: float,
+                      V: float | None) -> None:
+        """The checks of a lifted wheel's inputs (finite; ``ValueError`` naming one)."""
+        check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
+        if V is not None:
+            _speed(V)
+        for name, v in zip(self.geometry, (gx, gy)):
+            if not math.isfinite(v):
+                raise ValueError(f"{name}={v!r} is out of range: allowed a finite number "
+                                 "(any finite value while the wheel is lifted, N <= 0)")
+
+    def jacobian(self, xi: float, eta: float, phi: float, N: float, mu: float | None,
+                 gx: float, gy: float, V: float | None = None) -> Jacobian:
+        """The derivatives of :meth:`evaluate`'s outputs (Fx, Fy, Mz, a, b, p0, slip fraction;
+        without a, b with ``geometry_input="semi_axes"``, where they are inputs) with respect
+        to its inputs (ξ, η, φ, N, μ, the geometry and, with the effect 'falling_friction',
+        V) at these inputs, in SI units; the evaluator's state is not changed. The method's
+        (:meth:`~contact_core.base.ContactMethod.jacobian`, from the warm start ``last``)
+        chained through the patch: Hertz's of the curvatures A, B, the tabulated solution
+        differentiated (:func:`~contact_core.hertz.tabulated_patch_derivatives`), or the
+        caller's a, b with p0 = 3N/(2πab). Lifted (N <= 0): zero."""
+        if mu is None:
+            mu = self.mu
+        if V is not None and self.solver.friction is None and V:
+            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
+                             "selected: allowed None or 0, or select the effect")
+        names = ("xi", "eta", "phi", "N", "mu") + self.geometry \
+            + (("V",) if self.solver.friction else ())
+        outputs = EVALUATOR_OUTPUTS if self._curvatures else SEMI_AXES_OUTPUTS
+        if not 0.0 < N < _INF:
+            if not -_INF < N <= 0.0:
+                raise out_of_range("N", N)
+            self._check_lifted(xi, eta, phi, mu, gx, gy, V)
+            return Jacobian(outputs, names, np.zeros((len(outputs), len(names))), "zero")
+        a, b, p0 = self._patch(N, gx, gy, self._e_star)
+        if a != a:
+            raise self._geometry_error(gx, gy)
+        patch = np.zeros((3, len(names)))
+        if self._curvatures:
+            a, b, p0, d = tabulated_patch_derivatives(N, gx, gy, self._e_star)
+            patch[:, [3, 5, 6]] = d
+        else:
+            patch[0, 5] = patch[1, 6] = 1.0
+            patch[2, [3, 5, 6]] = (p0 / N, -p0 / a, -p0 / b)
+        core = self.solver.jacobian(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last,
+                                    V if self.solver.friction else None)
+        return _chain(core, patch, names, outputs)
 
     def _geometry_error(self, gx: float, gy: float) -> ValueError:
         """The error for a geometry without a patch: the first input outside its range, else

@@ -1,7 +1,7 @@
 """Falling friction: every method under the effect against the exact theory with the same law,
 and what it costs, measured in one run.
 
-    python -m contact_tools.bench_falling [--out FILE]
+    python -m contact_tools.bench_falling [--out FILE]     # the report: docs/reports/falling_friction.md
 
 States: two Hertzian contacts (the driven wheelset's, a 0.46 m wheel on a 0.3 m rail crown at
 50 kN, and the Eurosprinter's of CONTACT's tractcurv example, a/b = 0.5 at 106.7 kN), μ_stat =
@@ -106,7 +106,7 @@ def section(heading: str = "##") -> str:
     lines = [f"{heading} Falling friction: every method against the exact theory with the same "
              "local law", "",
              f"{len(ref_fall)} states, {int(pure.sum())} of them pure ξ "
-             "(`python -m contact_tools.bench_falling`). "
+             "(`python -m contact_tools.bench_falling --out docs/reports/falling_friction.md`). "
              "States: the driven wheelset's contact (0.46 m wheel, 0.3 m rail crown, 50 kN) and "
              "the Eurosprinter's (CONTACT's tractcurv, a/b = 0.5, 106.7 kN), μ_stat = 0.3, the "
              "default law (`FrictionLaw()`: Polach's exponential law, A = 0.38, B = 0.7 s/m), "

@@ -57,7 +57,10 @@ class Session(FmuInstance):
         fmu = self.fmu
         vin = [self.vr(n) for n in self.inputs]
         vout = [self.vr(n) for n in self.outputs]
-        base = {"xi": 1e-3, "eta": -5e-4, "phi": 0.2, "N": 1e5, "mu": 0.3}
+        # (V: the rolling speed of falling friction; A, B: the default curvatures, a, b their
+        # patch under 100 kN, for the scenes with varying_geometry)
+        base = {"xi": 1e-3, "eta": -5e-4, "phi": 0.2, "N": 1e5, "mu": 0.3, "V": 20.0,
+                "A": 0.5 / 0.46, "B": 0.5 / 0.3, "a": 7e-3, "b": 5.4e-3}
         rng = np.random.default_rng(0)
         scale = 1.0 + 0.1 * rng.random(steps)
         rows = [[base[n] * s for n in self.inputs] for s in scale]

@@ -10,7 +10,7 @@ states, other seeds; set names with the suffix "2"), on which choices made on th
 checked. This script solves the same states with ``contact_core``'s FASTSIM on the same number
 of elements (``nx`` × ``ny`` = CONTACT's MX × MY; strips here, a rectangle over the ellipse's
 bounding box there) and writes p95 / max of both errors per series, bound and grid to
-``docs/fastsim_vs_contact.md``, counting the figures behind CONTACT's per draw; every series
+``docs/reports/fastsim_vs_contact.md``, counting the figures behind CONTACT's per draw; every series
 over a range of grids (n × n, n = 14 .. 56; CONTACT's results on them in
 ``tests/data/contact_fastsim_grid_scan.csv.gz``); and the same figures for simplified theory
 itself: FASTSIM with the same options at zero element size (``LIMIT_GRIDS``; its 24,800 solves
@@ -69,10 +69,8 @@ GRIDS = ((20, 20), (48, 44))
 LIMIT_GRIDS = (200, 400)
 BOUNDS = ("parabolic", "elliptic")
 #: the benchmark's reference grids: the full form's and two finer ones. The gaps between the two
-#: programs are a few tenths of % of μN, the full form's references' 95 % half-width per case
-#: (median 0.09-0.16 % of μN by series) about as large; with 128² and 160² it halves (0.04-0.09),
-#: the references move by at most 0.06 % without spin (0.10-0.17 with it), and the 3 pure-spin
-#: cases left out before for their uncertainty are in (measured 2026-11-25).
+#: programs are a few tenths of % of μN, about as large as the full form's references' 95 %
+#: half-width per case; the two finer grids halve it (docs/notes/benchmark.md).
 BENCH_REFERENCE_GRIDS = REFERENCE_GRIDS["full"] + (128, 160)
 #: the benchmark's series (its case kinds), in the order of the report
 KINDS = (("longitudinal", "pure ξ"), ("lateral", "pure η"), ("creepage", "ξ and η"),
@@ -295,7 +293,7 @@ def main() -> None:
                    "method's defaults)")
     p.add_argument("--workers", type=int, default=None)
     p.add_argument("--scheduler", default=None)
-    p.add_argument("--out", default="docs/fastsim_vs_contact.md")
+    p.add_argument("--out", default="docs/reports/fastsim_vs_contact.md")
     p.add_argument("--export-references", metavar="FILE", default=None,
                    help="also write the references as CSV (module docstring)")
     p.add_argument("--references", metavar="FILE", default=None,

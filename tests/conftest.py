@@ -1,12 +1,30 @@
 """Shared test data: a default wheel/rail case and cheap options for the discretised methods."""
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 import contact_core as cc
+
+#: Hypothesis profile, chosen with the environment variable HYPOTHESIS_PROFILE: "ci" (the
+#: default: a fixed seed, sized so that the suite stays short) or "deep" (many more examples, no
+#: deadline). Tests whose examples cost more than most scale their own counts with
+#: :func:`examples`.
+HYPOTHESIS_PROFILE = os.environ.get("HYPOTHESIS_PROFILE", "ci")
+settings.register_profile("ci", max_examples=150, deadline=None, derandomize=True,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.register_profile("deep", max_examples=100_000, deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile(HYPOTHESIS_PROFILE)
+
+
+def examples(ci: int, deep: int) -> int:
+    """A test's own number of examples (or steps) under the current profile."""
+    return deep if HYPOTHESIS_PROFILE == "deep" else ci
 
 #: Reference data: CONTACT's tractcurv example output (see README_reference.md there).
 REFERENCE_DIR = Path(__file__).parent / "data"

@@ -455,7 +455,7 @@ def test_with_spin_and_creepage_fastsim_is_not_behind_contacts_fastsim(bound, nx
     # chosen on the first), CONTACT's FASTSIM (M=3) on the same number of elements. The default
     # here is not behind CONTACT's in p95 or maximum on any of them (the share's exponent and
     # the spin moment's flexibility per bound, contact_core.fastsim). Where CONTACT's is lower
-    # (docs/fastsim_vs_contact.md): pure ξ, η and φ, where the two differ only in the layout,
+    # (docs/reports/fastsim_vs_contact.md): pure ξ, η and φ, where the two differ only in the layout,
     # and once under (ξ, η) (next test).
     from contact_tools.table.check import result_errors
     refs = _exact_references()
@@ -498,7 +498,7 @@ def test_with_spin_and_creepage_not_behind_contacts_fastsim_on_any_grid(bound):
     # (14×14 .. 56×56): the default is not behind CONTACT's FASTSIM (M=3) on the same number of
     # elements in p95 or maximum on any of them. Without spin neither program is ahead on every
     # grid: their first-order grid errors cancel different parts of simplified theory's own
-    # error (docs/fastsim_vs_contact.md, "Over a range of grids").
+    # error (docs/reports/fastsim_vs_contact.md, "Over a range of grids").
     from contact_tools.table.check import result_errors
     refs = _exact_references()
     scan = [r for r in _contact_scan_rows() if r["set"] == "bench"]
@@ -566,7 +566,7 @@ def test_with_xi_and_eta_the_blend_keeps_the_exact_direction(bound, nx, ny):
 def test_blends_bring_fastsim_closer_to_exact_theory_with_spin_and_large_creepage():
     # Against the exact theory (default setting) on 12 random states in and near full sliding
     # (τ 1-4, spin 10-60 % of the linear force): the blends' mean |F| error is below that of
-    # three unblended flexibilities (held-out sets: docs/fastsim.md).
+    # three unblended flexibilities (held-out sets: docs/notes/fastsim.md).
     rng = np.random.default_rng(1)
     errs = {"separate": [], "blended-contact": [], "blended": []}
     for _ in range(12):
@@ -697,6 +697,68 @@ def test_fields_off_by_default():
     assert fs(1e-3).fields is None
 
 
+# ----------------------------------------------------------------------------- the slip law
+
+def test_slip_law_projection_meets_its_definition():
+    """The slipping traction of the anisotropic bed (Kalker 1979, eq 34 with L = diag(Lx, Ly),
+    eq 36): on the bound, |p| = g, and opposite to the slip over the step, diag(Lx, Ly)(p - p_H)
+    = -λ p with λ >= 0, i.e. p_x (1 + s) = p_H,x and p_y (1 + s/r) = p_H,y with the same
+    s = λ/Lx >= 0 (r = Ly/Lx). Both of the march's projections: the exact one, and the
+    vectorised march's one step wherever its residual says converged (it must there, near
+    isotropy, where the default's flexibilities are)."""
+    from contact_core import fastsim as fsm
+    fsm._kernels()
+    rng = np.random.default_rng(7)
+    for k in range(3000):
+        r = 10 ** rng.uniform(-1.0, 1.0) if k % 2 else 10 ** rng.uniform(-0.15, 0.15)
+        g = 10 ** rng.uniform(2, 9)
+        ang = rng.uniform(0, 2 * math.pi)
+        h = g * (1 + 10 ** rng.uniform(-9, 2))
+        hx, hy = h * math.cos(ang), h * math.sin(ang)
+        px, py, q = fsm._project(hx, hy, g, r, r - 1.0)
+        converged = abs(q - 1.0) <= fsm._PROJECTION_TOL
+        if abs(math.log(r)) < 0.15 and h < 10 * g:
+            assert converged
+        checks = [(*fsm._onto_bound(hx, hy, g, r), 1e-14)]
+        if converged:
+            checks.append((px, py, 1e-12))
+        for qx, qy, tol in checks:
+            assert math.hypot(qx, qy) == pytest.approx(g, rel=1e-14)
+            sx, sy = hx / qx - 1.0, r * (hy / qy - 1.0)
+            assert min(sx, sy) >= -tol
+            assert sx == pytest.approx(sy, rel=tol, abs=tol * (1 + r))
+
+
+@pytest.mark.parametrize("flexibility", ["blended", "separate", "weighted"])
+def test_vectorised_march_is_the_strip_march_with_exact_projections(flexibility):
+    """The Coulomb march (all strips at once, the slip law's projection in one step, checked)
+    and the falling-friction march with a flat law (strip by strip, every projection exact;
+    μ_kin = μ_stat: Coulomb's friction) give the same forces on states with spin and creepage,
+    elongated contacts and grids of any number of strips."""
+    flat = cc.FrictionLaw(kinetic=1.0)
+    rng = np.random.default_rng(3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoefficientExtrapolationWarning)
+        for _ in range(12):
+            ab = 10 ** rng.uniform(-1, 1)
+            b = 5e-3 / math.sqrt(ab)
+            a = ab * b
+            tau = 10 ** rng.uniform(-1, 0.7)
+            ang = rng.uniform(0, 2 * math.pi)
+            kw = dict(xi=1e-3 * tau * math.cos(ang), eta=1e-3 * tau * math.sin(ang),
+                      phi=rng.normal(0, 2.0), a=a, b=b, nx=int(rng.integers(3, 30)),
+                      ny=int(rng.integers(1, 30)), flexibility=flexibility,
+                      bound=str(rng.choice(["parabolic", "elliptic"])))
+            coulomb = fs(**kw)
+            strips = fs(**kw, V=20.0, friction=flat,
+                        effects=("longitudinal", "lateral", "spin", "saturation",
+                                 "falling_friction"))
+            assert (strips.Fx, strips.Fy) == pytest.approx((coulomb.Fx, coulomb.Fy), rel=1e-11,
+                                                            abs=1e-12 * MU * N)
+            assert strips.Mz == pytest.approx(coulomb.Mz, rel=1e-9, abs=1e-12 * MU * N * a)
+            assert strips.slip_fraction == coulomb.slip_fraction
+
+
 # ----------------------------------------------------------------------------- symmetries
 
 @pytest.mark.parametrize("bound", ["parabolic", "elliptic"])
@@ -744,6 +806,23 @@ def test_tiny_load_finite_and_bounded(n_load):
         assert all(math.isfinite(v) for v in (r.Fx, r.Fy, r.Mz, r.slip_fraction))
         assert math.hypot(r.Fx, r.Fy) <= MU * n_load * (1 + 1e-9)
 
+
+
+@pytest.mark.parametrize("flexibility", ["blended", "separate"])
+def test_huge_creepage_with_spin_is_full_sliding(flexibility):
+    """Creepage and spin together far beyond saturation (normalised magnitudes of 1e21 and
+    more, where the slip law's one-step projection overflows; found by the FMI state machine's
+    random inputs): full sliding, the same forces as at a millionth of the creepage and spin
+    (Kalker 1979, eq 5: in full sliding each traction is μ p along the rigid slip (ξ - φy,
+    η + φx), whose direction does not change when the creepages are scaled together)."""
+    for scale in (1e21, 1e27, 1e100):
+        r = fs(eta=-1e-3 * scale, phi=-2.0 * scale, flexibility=flexibility)
+        ref = fs(eta=-1e-3 * scale * 1e-6, phi=-2.0 * scale * 1e-6, flexibility=flexibility)
+        assert all(math.isfinite(v) for v in (r.Fx, r.Fy, r.Mz))
+        assert r.slip_fraction == 1.0
+        assert math.hypot(r.Fx, r.Fy) <= MU * N
+        assert (r.Fx, r.Fy, r.Mz) == pytest.approx((ref.Fx, ref.Fy, ref.Mz), rel=1e-9,
+                                                   abs=1e-9 * MU * N)
 
 def test_zero_load_and_zero_friction_handled_by_base():
     assert (fs(1e-3, N=0.0).Fx, fs(1e-3, mu=0.0).Fx) == (0.0, 0.0)

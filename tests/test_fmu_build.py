@@ -1,6 +1,7 @@
 """Building the WheelRailContact FMU: validation, the variables of each scene, reproducibility,
 names, build-time checks of start values, the README's build commands, what the archive holds.
-References: fmpy's validator, the scene table of the README, the FMI 2.0 standard."""
+References: fmpy's validator, the scene table of the user guide (docs/guide/scenes_and_effects.md),
+the FMI 2.0 standard."""
 from __future__ import annotations
 
 import math
@@ -24,7 +25,7 @@ pytestmark = pytest.mark.fmu_build
 
 ROOT = Path(__file__).resolve().parents[1]
 DIAGNOSTICS = {"a", "b", "p0", "slip_fraction", "method_used"}
-#: The README's scene table: scene -> (inputs, outputs).
+#: The user guide's scene table, docs/guide/scenes_and_effects.md: scene -> (inputs, outputs).
 EXPECTED = {
     "traction": ({"xi", "N"}, {"Fx"} | DIAGNOSTICS),
     "tangent_track": ({"xi", "eta", "phi", "N"}, {"Fx", "Fy", "Mz"} | DIAGNOSTICS),

@@ -197,11 +197,11 @@ def test_pythonfmu_binary_fallback(tmp_path):
     assert fx == solve("johnson_vermeulen", "traction", xi=1e-3).Fx
     assert refused and any("E=-1.0 is out of range" in m for m in errors)
     # pythonfmu 0.7's binary corrupts the heap of a Python host now and then, found at exit (an
-    # exit handler aborts with "corrupted double-linked list": 9 of 520 fmpy hosts of this
-    # FMU, two at a time, 2026-11-27; with this package's own wrapper 0 of 240; upstream:
+    # exit handler aborts with "corrupted double-linked list", a few % of fmpy hosts of this
+    # FMU and none with this package's own wrapper: docs/notes/performance.md; upstream:
     # NTNU-IHB/PythonFMU issues 228 and 229, the binary's exit-time finalizePythonInterpreter
-    # reading freed memory): the README says so. Known and not this package's to fix, it is
-    # reported as an expected failure; any other way of dying fails.
+    # reading freed memory): the FMU reference (docs/guide/fmu.md) says so. Known and not this
+    # package's to fix, it is reported as an expected failure; any other way of dying fails.
     if run.returncode == -signal.SIGABRT and "corrupted" in run.stderr:
         pytest.xfail("pythonfmu 0.7's binary: heap corrupted, found at the host's exit")
     assert run.returncode == 0, (run.returncode, run.stderr[-3000:])

@@ -12,6 +12,7 @@ import sys
 import time
 import warnings
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -145,7 +146,8 @@ def test_reset_restores_a_fresh_instance(fmus):
         inst.step(**INPUTS[0])
         inst.fmu.reset()
         assert inst.get("Fx", "E") == [0.0, 210e9]  # start values again
-        assert inst.fmu.getRealStatus(2) == 0.0     # fmi2LastSuccessfulTime
+        # Instantiated again: no last successful time before initialisation (FMI 2.0 4.2.4)
+        assert status_of(inst.fmu.getRealStatus, 2) == ERROR
         inst.init({"method": "johnson_vermeulen"})
         inst.step(**INPUTS[1])
         assert_rel(outputs(inst), reference("johnson_vermeulen", **INPUTS[1])[1])
@@ -249,6 +251,13 @@ def test_non_finite_input_at_initialisation(fmus):
     with FmuInstance(fmus["full"], initialize=False) as inst:
         assert status_of(inst.init, {"N": math.nan}) == ERROR
         assert any("N=nan" in m for m in inst.errors())
+        # refused again, and so is a read: the refused exit kept no outputs (found by
+        # tests/test_fmi_state_machine.py: the repeated exit entered Step Mode with N=nan)
+        assert status_of(inst.fmu.exitInitializationMode) == ERROR
+        assert status_of(inst.get, "Fx") == ERROR
+        inst.set(N=1e5)
+        inst.fmu.exitInitializationMode()
+        inst.initialized = True
 
 
 @pytest.mark.parametrize("name, value", [("E", 1.0), ("R_rail_profile", 0.5),
@@ -278,6 +287,78 @@ def test_misuse_is_an_error(fmus):
         inst.step(**INPUTS[0])  # none of it harmed the instance
         assert_rel(outputs(inst), reference(cc.load_scene("full").default_method,
                                             **INPUTS[0])[1])
+
+
+def test_calls_outside_their_states_are_errors(fmus):
+    """FMI 2.0 sec. 4.2.4's table: fmi2Terminate from Step Mode only, fmi2GetRealStatus in Step
+    Mode and after fmi2Terminate, fmi2SetXXX never after fmi2Terminate, not even of no value
+    (each found by tests/test_fmi_state_machine.py); each an error that changes nothing."""
+    with FmuInstance(fmus["full"], initialize=False) as inst:
+        assert status_of(inst.fmu.getRealStatus, 2) == ERROR          # Instantiated
+        inst.fmu.setupExperiment(startTime=0.25)
+        inst.fmu.enterInitializationMode()
+        assert status_of(inst.fmu.getRealStatus, 2) == ERROR          # Initialization Mode
+        assert status_of(inst.fmu.terminate) == ERROR
+        assert "fmi2Terminate is not allowed in initialization mode" in inst.errors()[-1]
+        inst.fmu.exitInitializationMode()                # the refused terminate left it so
+        inst.initialized = True
+        assert inst.fmu.getRealStatus(2) == 0.25
+        assert status_of(inst.fmu.getRealStatus, 0) == DISCARD        # fmi2DoStepStatus
+        assert "only fmi2LastSuccessfulTime" in inst.messages[-1][1]
+        inst.fmu.terminate()
+        assert inst.fmu.getRealStatus(2) == 0.25
+        for set_none in (inst.fmu.setReal, inst.fmu.setInteger, inst.fmu.setString):
+            assert status_of(set_none, [], []) == ERROR
+            assert "not allowed after fmi2Terminate" in inst.errors()[-1]
+        inst.initialized = False
+        assert inst.counts[FATAL] == 0
+
+
+@pytest.mark.parametrize("start", [math.nan, math.inf, -math.inf])
+def test_start_time_must_be_finite(fmus, start):
+    # the last successful time an FMU state holds (found by tests/test_fmi_state_machine.py)
+    with FmuInstance(fmus["full"], initialize=False) as inst:
+        assert status_of(inst.fmu.setupExperiment, startTime=start) == ERROR
+        assert f"startTime={start!r} is out of range: allowed a finite number" in \
+            inst.errors()[-1]
+        inst.init()        # the start time is still the default, 0
+        assert inst.fmu.getRealStatus(2) == 0.0
+
+
+def test_text_that_is_not_utf8_is_an_error_naming_the_value(fmus):
+    """fmi2SetString of bytes that are not UTF-8: an error that says which value, nothing set
+    (found by tests/test_fmi_state_machine.py: it was an "unexpected Python exception")."""
+    from ctypes import c_char_p, c_uint
+    with FmuInstance(fmus["full"], initialize=False) as inst:
+        vrs = (c_uint * 2)(inst.vr("method"), inst.vr("invalid_input"))
+        status = inst.fmu.dll.fmi2SetString(inst.fmu.component, vrs, 2,
+                                            (c_char_p * 2)(b"linear", b"discard\xff"))
+        assert status == ERROR
+        assert inst.errors()[-1] == (f"fmi2SetString: the value of valueReference "
+                                     f"{inst.vr('invalid_input')} is not UTF-8: allowed UTF-8 "
+                                     "text; nothing was set")
+        assert inst.get("method", "invalid_input") == ["table", "discard"]
+
+
+@pytest.mark.parametrize("how", ["guid", "missing resources"])
+def test_refused_instantiation_says_why(fmus, how):
+    """fmi2Instantiate with another FMU's GUID or a folder without this FMU's resources: NULL
+    and a message about the argument, not a Python traceback (found by
+    tests/test_fmi_state_machine.py)."""
+    from ctypes import byref
+    with FmuInstance(fmus["full"], initialize=False) as inst:
+        resources = Path(inst.fmu.unzipDirectory) / "resources"
+        guid, expected = inst.md.guid, "fmuResourceLocation"
+        if how == "guid":
+            guid, expected = "{00000000-0000-0000-0000-000000000000}", "is not the GUID"
+        else:
+            resources = resources.parent / "nowhere"
+        c = inst.fmu.dll.fmi2Instantiate(b"refused", 1, guid.encode(),
+                                         resources.as_uri().encode(), byref(inst._callbacks),
+                                         0, 0)
+        assert c is None
+        assert expected in inst.errors()[-1]
+        assert "Traceback" not in inst.errors()[-1]
 
 
 @pytest.mark.parametrize("h", [0.0, -1e-3, math.nan, math.inf])

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import pickle
 import struct
 
@@ -115,6 +116,58 @@ def test_exact_warm_start_survives_serialization(fmus):
     header = json.loads(blob[16:16 + n])
     assert header["result"]["method"] == "exact"
     assert [s[1] for s in header["arrays"]] == [[12, 12], [12, 12], [3], [12, 12], [12, 12], [3]]
+
+
+def test_states_of_values_the_fmu_has_not_checked_yet_are_restored(fmus):
+    """fmi2SetFMUstate restores every state fmi2GetFMUstate gave (FMI 2.0 sec. 2.1.8): one with
+    a non-finite parameter set before initialisation (checked at fmi2ExitInitializationMode),
+    one with a friction input a step refused (each found by tests/test_fmi_state_machine.py)."""
+    with FmuInstance(fmus["full"], "a", initialize=False) as a:
+        a.set(E=math.inf, R_wheel=math.nan)
+        state = a.fmu.getFMUstate()
+        a.set(E=2e11, R_wheel=0.5)
+        a.fmu.setFMUstate(state)
+        assert a.get("E")[0] == math.inf and math.isnan(a.get("R_wheel")[0])
+        a.fmu.freeFMUstate(state)
+    with FmuInstance(fmus["full"], "b", {"method": "linear"}) as b, \
+            FmuInstance(fmus["full"], "c", {"method": "linear"}) as c:
+        run(b, INPUTS[:1])
+        b.set(mu=-1.0)
+        with pytest.raises(FMICallException):    # fmi2Discard: mu=-1.0 is out of range
+            b.fmu.doStep(b.t, 1e-3)
+        blob = b.fmu.serializeFMUstate(b.fmu.getFMUstate())
+        b.set(**INPUTS[1])
+        b.fmu.setFMUstate(b.fmu.deSerializeFMUstate(blob))
+        assert b.get("mu") == [-1.0]
+        assert run(b, INPUTS[1:2]) == run(c, INPUTS[1:2])     # usable as ever
+
+
+def test_a_refused_read_computes_nothing(fmus):
+    """A read of an output and an unknown value reference is an error that leaves the state as
+    it was, the outputs not computed (found by tests/test_fmi_state_machine.py)."""
+    with FmuInstance(fmus["full"], "a", {"method": "linear"}) as a:
+        run(a, INPUTS[:1])
+        a.set(**INPUTS[1])
+        before = a.fmu.serializeFMUstate(a.fmu.getFMUstate())
+        with pytest.raises(FMICallException) as e:
+            a.fmu.getReal([a.vr("Fx"), 10_000])
+        assert e.value.status == ERROR
+        assert "valueReference 10000 is not a Real variable" in a.errors()[-1]
+        assert a.fmu.serializeFMUstate(a.fmu.getFMUstate()) == before
+
+
+def test_serializing_into_a_buffer_of_another_size_says_so(fmus):
+    # found by tests/test_fmi_state_machine.py: it was an "unexpected Python exception"
+    from ctypes import create_string_buffer
+    with FmuInstance(fmus["full"], "a") as a:
+        state = a.fmu.getFMUstate()
+        n = len(a.fmu.serializeFMUstate(state))
+        status = a.fmu.dll.fmi2SerializeFMUstate(a.fmu.component, state,
+                                                 create_string_buffer(n), n - 1)
+        assert status == ERROR
+        assert a.errors()[-1] == (f"fmi2SerializeFMUstate: the serialized state has {n} bytes, "
+                                  f"the host gave {n - 1} (fmi2SerializedFMUstateSize tells)")
+        a.fmu.freeFMUstate(state)
 
 
 # ---------------------------------------------------------------------------------------------

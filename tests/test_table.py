@@ -4,7 +4,7 @@ References: the exact solver itself at the table's nodes (a seeded random sample
 the table), Kalker's linear theory at small creepage (Kalker's coefficient table), full sliding
 (|F| = μN opposite the creepage), the symmetries of the problem, and the build pipeline on a toy
 configuration. Accuracy between the nodes against the converged exact theory is measured by
-``python -m contact_tools.table check`` (docs/table_accuracy.md) and the benchmark.
+``python -m contact_tools.table check`` (docs/reports/table_accuracy.md) and the benchmark.
 """
 from __future__ import annotations
 

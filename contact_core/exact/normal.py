@@ -13,8 +13,8 @@ gradient techniques*, Wear 231, 206-219 (the method CONTACT's NormCG builds on; 
 J. Comput. Phys. 257, 333-351). Matrix-vector products: for grids whose quarter has at most
 ``DENSE_MAX`` elements, a dense product with the operator folded onto the quarter grid (the
 problem and its unique solution are symmetric in x and y), the whole iteration compiled with
-numba (measured 0.1 ms at 20×20, 2 ms at 48×44, against 3 and 11 ms for the Python loop with
-FFTs); for larger grids zero-padded FFTs (linear convolution) as before.
+numba (an order of magnitude faster than the Python loop with FFTs on those grids:
+docs/notes/exact_solver.md); for larger grids zero-padded FFTs (linear convolution) as before.
 
 The problem is exactly scale-invariant: with x = a x̂, y = b ŷ, p = p0 p̂ (p0 = 3N/(2πab)) the
 equations for p̂ depend only on the grid (mx, my, scale) and a/b (E* = G/(1-ν) cancels), so the

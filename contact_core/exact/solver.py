@@ -20,17 +20,16 @@ the linear problem). With η = φ = 0 (e.g. ``longitudinal`` only) the problem i
 the mirror y → -y (X even, Y odd in y; the lateral tractions are still coupled to X through the
 ν-terms of the Cerruti solution): it is solved on the half grid y >= 0 with the kernels folded
 onto it (:func:`.sweeps.solve_steady_half`), every sum of the iteration weighted as on the
-full grid, so the iterates are those of the full solve up to rounding (measured equal to
-~1e-16 in Fx) at 2.0-2.4x less time (option ``half=False`` solves the full grid). Unselected
-outputs are reported as 0.0.
+full grid, so the iterates are those of the full solve up to rounding, at about half the time
+(option ``half=False`` solves the full grid). Unselected outputs are reported as 0.0.
 
 Warm start (``warm_start=previous_result``): the iteration starts from the previous tractions
 (scaled to the new μ p0), multiplied by the projection s of the new normalised creepages on the
 old ones: exact when no element slips (the problem is then linear, p(sσ) = s p(σ)) and for a
 sign reversal (the problem is odd), a first guess otherwise. When the previous result was itself
 warm-started, its state also holds the solution before it, and the start is extrapolated along
-the secant of the two instead (a co-simulation sequence; measured 2-4x fewer sweeps per step at
-0.1 % steps). Option ``predictor``: ``"secant"`` (this, the default), ``"scale"`` (scaling
+the secant of the two instead (a co-simulation sequence, where it saves sweeps over scaling
+alone). Option ``predictor``: ``"secant"`` (this, the default), ``"scale"`` (scaling
 only), ``"none"`` (the previous solution as it is). The state is an :class:`ExactWarmState`.
 The tractions are kept on the grid of the semi-axes, in units of μ p0, so a new a/b (a contact
 geometry that changes at every step, the effect ``varying_geometry``) keeps both predictors:
@@ -44,41 +43,26 @@ slip minus the upwind difference (u_i - u_{i+1})/dx of the displacements towards
 x_i + θ dx, θ = ``spin_shift`` elements downstream of the element centre (towards the leading
 edge). The default θ = 1/6 is CONTACT's (E. A. H. Vollebregt, CONTACT, github.com/eve70a/CONTACT
 d431cdb: ``kin%facphi`` in ``m_sdis.f90``, read as an optional fourth value after CHI, DQ, VELOC,
-default 1/6, not in its user guide): with it this solver is CONTACT's discretisation. Measured
-2026-11-25 against CONTACT built from that source (exact steady rolling, M=0, B=0, same grids over
-1.1× the ellipse) on the benchmark's 240 pure-ξ, spin and combined cases at 12×12, 20×20 and
-32×32: the largest difference is 2e-7 μN in Fx, Fy and 2e-7 μN·c in Mz at tol=1e-7; 4e-7 at the
-default tol on the 24 of them the tests hold (``tests/data/contact_exact_spin.csv``).
-No θ is best for every output. Against the grid-converged solution on the benchmark's 157 spin
-and combined cases with a converged reference (|F| error p95 / max in % of μN; Mz in % of μN·c):
-
-    ======  ==================  ==================  ==================
-    grid    θ = 0               θ = 1/6 (default)   θ = 1/4
-    ======  ==================  ==================  ==================
-    12×12   7.4/14.1, 4.8/11.0  3.7/8.1, 3.0/7.0    2.6/5.1, 2.0/5.1
-    20×20   3.5/7.1, 2.7/6.4    1.9/4.2, 1.9/3.9    1.7/2.9, 1.4/2.9
-    32×32   2.4/4.9, 1.8/3.6    1.3/2.7, 1.2/2.4    1.1/1.8, 0.8/1.9
-    ======  ==================  ==================  ==================
-
-(|F| p95/max, Mz p95/max.) θ = 3/8 gives |F| 4.0/5.6, 2.6/3.4, 1.4/2.2 and Mz 1.6/2.7, 0.9/1.6,
-0.7/1.0; θ = 1/2 (the centre of the upwind difference) |F| 6.3/8.3, 4.1/5.2, 2.2/3.3 and Mz 2.5/3.1,
-1.3/1.5, 0.8/1.0. θ = 0 under-estimates the spin's lateral force, θ = 1/2 over-estimates it, as the
-grid's pure-creepage response does. θ = 1/4 has the smallest |F| tails on every grid, θ = 3/8..1/2
-the smallest Mz, and θ = 1/6 the smaller |F| error on most single cases (20×20: 82 % of the spin and
-59 % of the combined cases against θ = 1/4). The default keeps CONTACT's, so that a fixed grid here
-and in CONTACT give the same forces; ``spin_shift=0.25`` trades that for a third less |F| error in
-the worst spin cases. The default ``extrapolate`` setting cancels the first-order term the shift
-moves: at 52×52 extrapolated, on all 400 benchmark cases, |F| p95/max is 0.64/1.29 with either and
-Mz 0.58/0.86 with θ = 1/6, 0.56/0.86 with θ = 1/4. Pure ξ and η do not depend on θ. Kalker's
-reciprocity C32 = -C23 (Mz per η equals -Fy per φ·c) holds in the limit: the shift changes Fy(φ) by
--G c² C22 φ θ dx, first order in the element size (tests).
+default 1/6, not in its user guide): with it this solver is CONTACT's discretisation: on equal
+grids it gives CONTACT's forces and moments (exact steady rolling, M=0, B=0, over 1.1× the
+ellipse) to within the solver's tolerance, which the tests hold on CONTACT's published results
+(``tests/data/contact_exact_spin.csv``). No θ is best for every output against the
+grid-converged solution: θ = 0 under-estimates the spin's lateral force and θ = 1/2 (the centre
+of the upwind difference) over-estimates it, as the grid's pure-creepage response does; θ = 1/4
+has the smallest |F| tails, θ = 3/8..1/2 the smallest Mz. The default keeps CONTACT's, so that a
+fixed grid here and in CONTACT give the same forces; ``spin_shift=0.25`` trades that for less
+|F| error in the worst spin cases. The default ``extrapolate`` setting cancels the first-order
+term the shift moves. Pure ξ and η do not depend on θ. Kalker's reciprocity C32 = -C23 (Mz per
+η equals -Fy per φ·c) holds in the limit: the shift changes Fy(φ) by -G c² C22 φ θ dx, first
+order in the element size (tests). The comparison with CONTACT and the errors of each θ are in
+the design notes (docs/notes/exact_solver.md).
 
 Extrapolation (option ``extrapolate``, default on): the solve is repeated on the half grid
 (mx/2 × my/2) and the two are combined by Richardson's rule for a first-order error,
 q = q1 + (q1 - q2)/(r - 1), r = √(mx·my/(mx2·my2)) the refinement ratio. Plain grids are not in the
 asymptotic range: the contact area of the discrete normal problem (elements whose centres carry
-pressure) differs from πab by a staircase error of -1.3 .. +3.2 % that jumps with the grid, and the
-forces follow it (C11 +3.9 % at 24×24 with +2.7 % area, +1.3 % at 40×40 with +0.5 %). Before
+pressure) differs from πab by a staircase error of a few % that jumps with the grid, and the
+forces follow it. Before
 extrapolating, each grid is therefore mapped to the continuum's area by Kalker's similarity (Kalker
 1967 ch. 2; Kalker 1979 sec. 2: with a/b and ν fixed, F/(μN) and Mz/(μN c) depend on the creepages
 only through ξ G c²/(μN), η G c²/(μN), φ G c³/(μN)): a grid whose contact area is k πab is solved
@@ -86,30 +70,18 @@ as the ellipse of semi-axes √k a, √k b, i.e. with creepages ξ/k, η/k, φ/k
 by √k. After the combination |F| is held to μN and |Mz| to μ ∫ p_n r dA (Coulomb's bounds, which
 each grid meets but a combination need not). Far from the asymptotic range the combination can
 reverse a sign both grids agree on: Mz of small pure spin with elements a/b times as long as wide,
-from a/b = 12 on 16×16 and 15 on 24×24 extrapolated (about 0.05 % of μN·c, but of the wrong sign).
-A guard that kept the fine grid's value there was tried and not kept: near a component's zero
-crossing (e.g. Fy where the η and φ terms cancel) the reversal is the correction working, and the
-guard also fired in the toy table build (a/b = 0.1, 16×16). Beyond a/b = 10 that moment
-converges slowly on any grid (a/b = 20, cφ = 5e-6, over linear theory's with C33 held at
-a/b = 10: 1.51, 0.85, 0.90, 0.66 on 32², 40², 48², 52² extrapolated; 0.91, 0.71, 0.60 on
-160×16, 240×24, 320×32; measured 2026-11-27). The fields and the warm state are the fine
-grid's; the half grid starts cold. Measured on the benchmark's 400 cases
-(docs/accuracy_vs_time.md) and against Kalker's table
-at ν = 0.25, a/b 0.1..10 (pure ξ, η):
-
-    ==================  ===============  ===================  ========
-    setting             |F| p95 / max    C11, C22 vs Kalker   ms/call
-    ==================  ===============  ===================  ========
-    24×24               1.9 / 3.5        +3.8 .. +6.4 %       3.8
-    24×24 extrapolated  1.2 / 4.0        -6.7 .. +3.4 %       4.2
-    48×48 extrapolated  0.2 / 1.1        -0.2 .. +1.6 %       42
-    52×52 extrapolated  0.6 / 1.3        -0.5 .. +0.8 %       62
-    ==================  ===============  ===================  ========
+from a/b = 12 on 16×16 and 15 on 24×24 extrapolated (a small moment of the wrong sign); near a
+component's zero crossing (e.g. Fy where the η and φ terms cancel) such a reversal is the
+correction working, so no guard keeps the fine grid's value. Beyond a/b = 10 that moment
+converges slowly on any grid. The fields and the warm state are the fine grid's; the half grid
+starts cold.
 
 The default, 52×52 extrapolated, is the cheapest square grid found within 1 % of Kalker's
-coefficients over a/b 0.1..10 (44 and 48 miss at a/b = 10). ``extrapolate=False`` solves one
-grid as it is (CONTACT's discretisation: "Rigid slip with spin"). The forces are from the
-default ``spin_shift``; with 0.25, 24×24 gives 1.9 / 2.4.
+coefficients C11, C22 over a/b 0.1..10 (ν = 0.25; 44 and 48 miss at a/b = 10).
+``extrapolate=False`` solves one grid as it is (CONTACT's discretisation: "Rigid slip with
+spin"). The accuracy and cost of each setting against the converged reference:
+``python -m contact_tools.bench`` (docs/reports/accuracy_vs_time.md); the settings compared
+when the default was chosen: docs/notes/exact_solver.md.
 
 Falling friction (the effect ``falling_friction``, option ``falling="local"``): each element's
 bound at its own slip velocity, by an outer iteration between the friction field and the
@@ -144,8 +116,7 @@ from .sweeps import EXTERIOR, SLIP, STICK, slip_field, solve_steady, solve_stead
 
 
 # Anderson acceleration of the sweeps (see :mod:`.anderson`): history depth and first
-# accelerated sweep (measured: depth 5 from sweep 2 saves 15-30 % of the sweeps; deeper
-# histories gain nothing). Passed explicitly: numba's fast dispatch path needs every argument.
+# accelerated sweep (deeper histories gain nothing: docs/notes/exact_solver.md). Passed explicitly: numba's fast dispatch path needs every argument.
 _AA_DEPTH, _AA_START = 5, 2
 #: Warm-start predictors (option ``predictor``; see the module docstring).
 PREDICTORS = ("secant", "scale", "none")
@@ -292,7 +263,8 @@ class Exact(ContactMethod):
     -------
     mx, my : int
         Elements along x (rolling) and y, 4..400 each. Default 52 × 52 with ``extrapolate``
-        (about 60 ms per cold case; the module docstring gives the accuracy of other settings).
+        (the module docstring; the cost and accuracy of other settings: docs/reports/
+        accuracy_vs_time.md).
         Without extrapolation the error is first order in the element size, with a staircase
         part that jumps with the grid (see ``extrapolate``).
     scale : float

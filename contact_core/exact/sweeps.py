@@ -32,8 +32,8 @@ on |e(λ)| = 1. Downstream stick elements pushed beyond their bound are clipped 
 Every element update recomputes its slip from all traction differences (row-contiguous dot
 products against the flipped kernel tables): O(n_contact · n_grid) per sweep, compiled with numba.
 The two elements of a mirror pair of rows share every kernel load (:func:`.kernels._slip_pair`;
-measured 1.4-1.8x faster per sweep than two separate sums), and the sweeps are
-Anderson-accelerated (:mod:`.anderson`; 15-30 % fewer sweeps).
+faster per sweep than two separate sums), and the sweeps are Anderson-accelerated
+(:mod:`.anderson`; fewer sweeps). Measurements: docs/notes/exact_solver.md.
 All quantities are dimensionless: tractions in units of G, lengths of the kernel in units of dx.
 """
 from __future__ import annotations
@@ -294,8 +294,8 @@ def _solve(px, py, qx, qy, status, bound, sx, sy, kxx, kxy, kyy, fxx, fxy1, fxy2
     ``c_lo, c_hi`` per row the q-columns that may be non-zero; ``e_lo, e_hi`` per row the
     contact elements (lo > hi: none).
 
-    Rows are taken in mirror pairs (iy, my-1-iy), from the centre outwards (measured 5-15 %
-    fewer sweeps than outside-in; alternating the order was worse), and at each ix the slips of
+    Rows are taken in mirror pairs (iy, my-1-iy), from the centre outwards (fewer
+    sweeps than outside-in or alternating: docs/notes/exact_solver.md), and at each ix the slips of
     both elements are computed before either is updated: the iteration is then equivariant under
     the mirror y -> -y (up to rounding), so the computed forces have the exact symmetries of the
     continuous problem (Fy, Mz even in ξ etc.) whatever the tolerance.

@@ -9,25 +9,24 @@ holds every column, so that :meth:`ContactTable.values` costs one ``PPoly`` eval
 Per wheel (left, right) and slot (0 tread, 1 flange; :mod:`.search`), the columns
 :data:`PATCH_QUANTITIES`:
 
-``present``  1 where the search finds the slot's patch, else 0 (then ``gap`` is
-             :data:`ABSENT_GAP`, ``weight`` 0, and the geometry is held from the nearest y where
-             the slot is present, so that the interpolation stays finite);
-``gap``      vertical gap of the patch's deepest point above the wheel's rigid contact (m, >= 0;
-             0 for the patch the wheel stands on): a vehicle model that computes its own
-             approach d gives the patch the normal overlap (d − gap) cos ``delta_deepest``;
-``weight``   the patch's share of the wheel's load at the table's nominal ``load`` per wheel
-             (:mod:`.loads`: common approach, Hertz per patch): the flag/weight of the flange
-             patch;
-``delta``    contact angle (rad; :mod:`.search`); ``delta_deepest`` equal here (rigid contact:
-             the reference point is the deepest point);
-``radius``   rolling radius (m);
-``A``, ``B`` relative curvatures (1/m), and ``ka``, ``kb``, ``kd`` Hertz's a = ka N^{1/3},
-             b = kb N^{1/3}, approach = kd N^{2/3} for the table's E and ν
-             (:func:`contact_core.hertz.hertz_geometry`);
-``y``, ``z`` contact point in the track frame (m), ``y_rail``, ``y_wheel`` on the profiles;
-``x_per_yaw`` longitudinal position of the contact point per unit yaw, m/rad (first order in
-             ψ: the wheelset's rotation about its centre and the contact locus' lead,
-             X ≈ −σ ψ (b + y_w + r dz_w/dy_w)).
+- ``present``: 1 where the search finds the slot's patch, else 0 (then ``gap`` is
+  :data:`ABSENT_GAP`, ``weight`` 0, and the geometry is held from the nearest y where the slot
+  is present, so that the interpolation stays finite);
+- ``gap``: vertical gap of the patch's deepest point above the wheel's rigid contact (m, >= 0;
+  0 for the patch the wheel stands on): a vehicle model that computes its own approach d gives
+  the patch the normal overlap (d − gap) cos ``delta_deepest``;
+- ``weight``: the patch's share of the wheel's load at the table's nominal ``load`` per wheel
+  (:mod:`.loads`: common approach, Hertz per patch): the flag/weight of the flange patch;
+- ``delta``: contact angle (rad; :mod:`.search`); ``delta_deepest`` equal here (rigid contact:
+  the reference point is the deepest point);
+- ``radius``: rolling radius (m);
+- ``A``, ``B``: relative curvatures (1/m), and ``ka``, ``kb``, ``kd``: Hertz's a = ka N^{1/3},
+  b = kb N^{1/3}, approach = kd N^{2/3} for the table's E and ν
+  (:func:`contact_core.hertz.hertz_geometry`);
+- ``y``, ``z``: contact point in the track frame (m), ``y_rail``, ``y_wheel`` on the profiles;
+- ``x_per_yaw``: longitudinal position of the contact point per unit yaw, m/rad (first order in
+  ψ: the wheelset's rotation about its centre and the contact locus' lead,
+  X ≈ −σ ψ (b + y_w + r dz_w/dy_w)).
 
 Per wheel also ``radius_contact`` (the rolling radius of the rigid contact point) and per table
 ``roll`` and ``z`` of the wheelset. Both wheels are equal and the track symmetric, so the table is

@@ -26,11 +26,9 @@ NAME = "exact_table"
 #: Values per node: Fx/(μN s), Fy/(μN s), Mz/(μN c s), slip fraction.
 N_VALUES = 4
 #: Stored and held in single precision: its rounding (at most 1.2e-7 of μN on the shipped table)
-#: is 1e-5 of the table's 1 % target; the file shrinks from 19.4 MB (double precision,
-#: compressed) to 12.6 MB and the array the lookups read from 28 to 14 MB (with the ghost nodes).
-#: Uncompressed: reading the shipped table takes 0.02 s, against 0.06 s compressed and 0.36 s
-#: compressed in double precision (file in the page cache, best of 5, a loaded machine); the
-#: wheel and the FMU are zip files and compress it anyway.
+#: is 1e-5 of the table's 1 % target, and it halves the array the lookups read from. Stored
+#: uncompressed, which reads several times faster than compressed (docs/notes/table_build.md);
+#: the wheel and the FMU are zip files and compress it anyway.
 #: A double-precision table (older builds) is read and rounded the same way.
 DTYPE = np.float32
 

@@ -6,18 +6,11 @@ Lagrange's weights (one-sided at the ends, except where the ghost row of a/b ext
 (two nodes; an axis of fewer than 4 nodes is linear, which θ, ψ and s never are: ``grid.Axes``).
 ψ is extended by one node beyond each end with the symmetries of the problem (:mod:`.grid`),
 :func:`with_psi_ghosts`, so that its stencil is always central: ξ -> -ξ maps ψ to π - ψ and
-flips Fx; (η, φ) -> -(η, φ) maps (θ, ψ) to (π - θ, -ψ) and flips Fy and Mz. On the 2000 held-out
-states of ``check``'s hard region (ψ near 0 or π/2, near full sliding) this took the largest |F|
-error from 1.43 to 1.09 % of μN and Mz from 1.32 to 1.20 % of μN c.
-Tried and not kept (the shipped table, ``check``'s three sets): the cubic spline through all 9
-nodes of ln(a/b) (not-a-knot, from B-spline coefficients computed at load, the same 4 rows per
-lookup) took the hard region's |F| max from 1.08 to 1.01 % of μN and the random set's Mz max from
-0.59 to 0.53 % of μN c, but the spin band's |F| max from 0.83 to 0.89 % and every p95 up by 2-7 %
-(natural end conditions: the hard region's Mz p95 0.28 -> 0.47 %); the same spline along θ or s
-changed the largest errors by less than 0.02 %.
-scipy's ``RegularGridInterpolator`` on the same table costs 0.1-0.8 ms per point
-(measured on this table: cubic 96 µs, linear 770 µs, a loaded 2-core machine), far over the
-method's per-call budget; these kernels cost about a µs.
+flips Fx; (η, φ) -> -(η, φ) maps (θ, ψ) to (π - θ, -ψ) and flips Fy and Mz (this lowered the
+largest errors near ψ = 0 and π/2, where a one-sided stencil was worst). A cubic spline through
+all the nodes of ln(a/b) instead of the local cubic was tried and not kept, and scipy's
+``RegularGridInterpolator`` costs far over the method's per-call budget at a point
+(docs/notes/table_build.md); these kernels stay within it.
 
 Being a tensor product, the interpolation can be done axis by axis, in one order everywhere:
 over ν first (each value from 0.0), then over a/b (from 0.0), then over (θ, ψ, s).
@@ -29,9 +22,8 @@ interpolates the 64 nodes of its stencil at (a/b, ν) (512 table values). All su
 order, so they give the same result to the bit. The method uses the slice where (a/b, ν) repeats,
 as in a simulation of a fixed geometry, the rows where ν repeats and a/b does not (the effect
 ``varying_geometry``), and otherwise :func:`_lookup_state`, which also forms the table's
-coordinates from the creepages (Kalker's coefficients and the spin weight compiled in: in Python
-around the kernel they cost 2-3 µs of the 7.6-9.2 µs a new pair took; 5.7-6.8 µs since,
-``check``); so does :func:`_lookup_rows`.
+coordinates from the creepages (Kalker's coefficients and the spin weight compiled in, not
+evaluated in Python around the kernel); so does :func:`_lookup_rows`.
 """
 from __future__ import annotations
 
@@ -40,6 +32,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..base import _moderate
 from ..coefficients import SPLINE, spline_coefficients
 from .grid import spin_weight
 
@@ -311,6 +304,95 @@ def _lookup_slice(slab: np.ndarray, axes: np.ndarray, u0: float, u1: float,
     return _finish(sx, sy, s, g0, g1, g2, g3)
 
 
+def _step_rows(rows: np.ndarray, axes: np.ndarray, xi: float, eta: float, phi: float, N: float,
+               mu: float, a: float, b: float, G: float,
+               nu: float) -> tuple[int, float, float, float, float]:
+    """One state of the method with every effect of Coulomb friction, from the rows at ν
+    (:func:`_nu_rows`), in one compiled call: the method's ``step`` and ``_step_impl`` (their
+    checks, operations and order: the same bits) where they take the rows. ``axes``: the rows'
+    (:func:`_lookup_rows`) with a third row (spin power, ν brought onto the table, the table's
+    a/b range) and a fourth (the a/b accepted, with the edges' tolerance).
+
+    Returns (done, Fx, Fy, Mz, slip fraction): done 0, a state the general path must solve
+    (inputs outside ``base._moderate``, a/b outside the table); 1, the result; 2, the result
+    before Coulomb's bounds, which the caller holds (``hertz.held_spin_moment`` on Mz, and
+    ``ContactMethod._held`` where |(Fx, Fy)| may exceed μN: checked here with a margin, in
+    Python to the bit)."""
+    ab = a / b
+    if not (_moderate(xi, eta, phi, N, mu, a, b, G, nu, True)
+            and axes[3, 0] <= ab <= axes[3, 1]):
+        return 0, 0.0, 0.0, 0.0, 0.0
+    c = math.sqrt(a * b)
+    k = G * a * b / (mu * N)
+    lo = axes[2, 2]
+    hi = axes[2, 3]
+    inside = ab if lo <= ab <= hi else min(hi, max(lo, ab))
+    fx, fy, mz, slip = _lookup_rows(rows, axes, xi, eta, phi, c, k, inside)
+    mun = mu * N
+    fx = fx * mun
+    fy = fy * mun
+    mz = mz * mun * c
+    done = 1
+    if (abs(mz) > 0.375 * mun * (a if a > b else b)
+            or fx * fx + fy * fy > (1.0 - 1e-12) * (mu * N) * (mu * N)):
+        done = 2
+    return done, fx, fy, mz, slip
+
+
+def _weights_d(x: float, lo: float, h: float, n: int) -> tuple[int, tuple, tuple]:
+    """:func:`_weights` and their derivatives with respect to x (Lagrange's cubic
+    differentiated; linear for n < 4)."""
+    i0, w0, w1, w2, w3 = _weights(x, lo, h, n)
+    p = (x - lo) / h - i0
+    if n < 4:
+        return i0, (w0, w1, w2, w3), (-1.0 / h, 1.0 / h, 0.0, 0.0)
+    d0 = -((p - 2.0) * (p - 3.0) + (p - 1.0) * (p - 3.0) + (p - 1.0) * (p - 2.0)) / 6.0
+    d1 = ((p - 2.0) * (p - 3.0) + p * (p - 3.0) + p * (p - 2.0)) / 2.0
+    d2 = -((p - 1.0) * (p - 3.0) + p * (p - 3.0) + p * (p - 1.0)) / 2.0
+    d3 = ((p - 1.0) * (p - 2.0) + p * (p - 2.0) + p * (p - 1.0)) / 6.0
+    return i0, (w0, w1, w2, w3), (d0 / h, d1 / h, d2 / h, d3 / h)
+
+
+def _gradient(values: np.ndarray, axes: np.ndarray, theta: float, psi: float, s: float,
+              log_ab: float, nu: float) -> np.ndarray:
+    """The interpolant of :func:`_lookup` (without the signs and bounds of :func:`_finish`) at
+    (θ, ψ, s, ln(a/b), ν) in the tabulated quarter, and its derivatives: shape (4, 5), per
+    value (g0, g1, g2, slip fraction) the value and ∂/∂θ, ∂/∂ψ, ∂/∂s, ∂/∂ln(a/b) (the weights
+    of one axis replaced by their derivatives, :func:`_weights_d`). For the table's Jacobian;
+    the value sums in another order than the lookups (the same to rounding)."""
+    lo = axes[0]
+    h = axes[1]
+    shape = values.shape
+    ia, wa, da = _weights_d(log_ab, lo[0], h[0], shape[0])
+    inu, wn, _ = _weights_d(nu, lo[1], h[1], shape[1])
+    it, wt, dt = _weights_d(theta, lo[2], h[2], shape[2])
+    ip, wp, dp = _weights_d(psi, lo[3], h[3], shape[3])
+    js, wk, dk = _weights_d(s, lo[4], h[4], shape[4])
+    na = _count(shape[0])
+    nn = _count(shape[1])
+    out = np.zeros((4, 5))
+    for a in range(na):
+        for b in range(nn):
+            wab = wa[a] * wn[b]
+            dab = da[a] * wn[b]
+            for t in range(4):
+                for p in range(4):
+                    for k in range(4):
+                        w = wab * wt[t] * wp[p] * wk[k]
+                        w_t = wab * dt[t] * wp[p] * wk[k]
+                        w_p = wab * wt[t] * dp[p] * wk[k]
+                        w_s = wab * wt[t] * wp[p] * dk[k]
+                        w_l = dab * wt[t] * wp[p] * wk[k]
+                        for m in range(4):
+                            v = values[ia + a, inu + b, it + t, ip + p, js + k, m]
+                            out[m, 0] += w * v
+                            out[m, 1] += w_t * v
+                            out[m, 2] += w_p * v
+                            out[m, 3] += w_s * v
+                            out[m, 4] += w_l * v
+    return out
+
+
 #: Kalker's spline (``coefficients.SPLINE``), which :func:`_lookup_rows` reads as a global:
 #: numba freezes it into the compiled code.
 _SPLINE = SPLINE
@@ -342,13 +424,62 @@ def check_frozen() -> None:
             return
 
 
+_STEP_ROWS = None
+
+
+def step_rows_kernel() -> Callable:
+    """:func:`_step_rows` compiled for floats (an int is converted, anything else refused with
+    a ``TypeError``), after :func:`kernels`. numba's disk cache keys on this file only, and the
+    kernel compiles ``base._moderate`` in: it is checked against its interpreted self once per
+    process on a small random table (as :func:`check_frozen`) and compiled afresh if they
+    differ."""
+    global _STEP_ROWS
+    if _STEP_ROWS is None:
+        import numba
+        from numba import types
+        kernels()
+        f8 = types.float64
+        sig = types.Tuple((types.int64, f8, f8, f8, f8))(
+            types.Array(f8, 5, "C", readonly=True), types.Array(f8, 2, "C"), *[f8] * 9)
+        kernel = numba.njit(sig, cache=True, nogil=True, error_model="numpy")(_step_rows)
+        rng = np.random.default_rng(1)
+        values = rng.random((6, 2, 6, 6, 6, 4)).astype(np.float32)    # the table's types
+        axes = np.array([[math.log(0.1), 0.25, 0.0, -0.1, 0.0], [0.9, 0.05, 0.6, 0.3, 0.2],
+                         [0.8, 0.27, 0.1, 10.0, 0.0], [0.1, 10.0, 0.0, 0.0, 0.0]])
+        rows = _nu_rows(values, axes, 0.27)
+        rows.setflags(write=False)
+        for a, phi, N in ((4e-3, 0.3, 1e5), (7e-2, 2.0, 3e4), (5e-4, 0.0, 1e5), (2.0, 0.1, 1e5)):
+            state = (rows, axes, 1e-3, -4e-4, phi, N, 0.3, a, 6e-3, 8e10, 0.27)
+            if kernel(*state) != _step_rows(*state):
+                kernel.recompile()
+                break
+        _STEP_ROWS = kernel
+    return _STEP_ROWS
+
+
+_GRADIENT = None
+
+
+def gradient_kernel() -> Callable:
+    """:func:`_gradient` compiled (on first use, after :func:`kernels`)."""
+    global _GRADIENT, _weights_d
+    if _GRADIENT is None:
+        import numba
+        kernels()
+        jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+        _weights_d = jit(_weights_d)
+        _GRADIENT = jit(_gradient)
+    return _GRADIENT
+
+
 _JITTED = False
 
 
 def kernels() -> tuple[Callable, ...]:
     """The numba-compiled (:func:`_lookup_state`, :func:`_scales`, :func:`_make_slice`,
-    :func:`_lookup_slice`, :func:`_nu_rows`, :func:`_lookup_rows`) (numba imported on first use;
-    cached on disk). Every function of this module, and the two it calls from ``coefficients``
+    :func:`_lookup_slice`, :func:`_nu_rows`, :func:`_lookup_rows`), compiled on first use or
+    loaded from numba's disk cache (numba itself is imported with ``contact_core``: the
+    coefficients and the exact solver use it at import). Every function of this module, and the two it calls from ``coefficients``
     and ``grid``, is replaced by its compiled version (module attributes, as numba's cache
     statistics expect). numba's disk cache keys on this file only: after editing those two
     functions, delete ``__pycache__``."""

@@ -3,7 +3,7 @@ and ``python -m contact_tools.bench hard [--cases N] [--exact-cases M]`` (:mod:`
 
 What accuracy costs in time: every method and setting against a converged exact reference, with
 per-call times in-process and through the FMU. Writes ``OUT/accuracy_vs_time.md`` and ``.png``
-(and copies in ``--docs``). The short form (default, ``make run``: 120 cases) takes about a
+(and copies in ``--docs``, e.g. ``docs/reports``). The short form (default, ``make run``: 120 cases) takes about a
 minute on two cores; ``--full`` is the definitive sweep (400 cases, finer reference grids, more
 settings; about ten minutes).
 """
@@ -30,7 +30,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--scheduler", default=None,
                    help="address of a Dask scheduler to run the reference sweep on instead")
     p.add_argument("--out", default="out", help="output folder (default: out)")
-    p.add_argument("--docs", default=None, help="also copy the table and plot here (e.g. docs)")
+    p.add_argument("--docs", default=None, help="also copy the table and plot here (e.g. docs/reports)")
     p.add_argument("--no-fmu", action="store_true", help="skip the FMU timing")
     p.add_argument("--repeats", type=int, default=None,
                    help="timing repeats per case (default 3 short, 5 full)")

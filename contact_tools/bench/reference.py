@@ -4,12 +4,9 @@ Per case the exact solver (:mod:`contact_core.exact`, ``normal="numerical"``, de
 one grid each: ``extrapolate=False``) runs on square element counts ``m × m`` for every ``m`` of
 ``grids`` (short form 40, 48, 64, 80; full form 40, 48, 64, 80, 96). Its discretisation error is
 first order in the element size, q(m) ≈ q∞ + C/m, overlaid with an irregular part of about
-0.05–0.2 % of μN where the stick/slip boundary crosses elements (spin cases mostly). Measured while
-designing this module (|F|/μN on m = 48, 64, 96, 128): a/b = 1, η, τ = 0.28: 0.25734, 0.25625,
-0.25509, 0.25451, i.e. slopes in 1/m of 0.209, 0.223, 0.223 (first order); a/b = 5, ξ, τ = 0.96:
-slopes 0.56, 0.45, 0.51 (first order plus scatter); the Mz of a/b = 5 spin τ = 0.59: 1.27, 1.22,
-1.21. Grids of 32 and below are not yet in that range (slopes about half), so the grids start at
-40. Per case and per quantity q ∈ {Fx, Fy, Mz}:
+0.05–0.2 % of μN where the stick/slip boundary crosses elements (spin cases mostly). Grids of
+32 and below are not yet in that range (slopes about half: docs/notes/benchmark.md), so the
+grids start at 40. Per case and per quantity q ∈ {Fx, Fy, Mz}:
 
 * **reference** q∞: least-squares fit of q(m) = q∞ + C/m over the grids (Richardson
   extrapolation with p = 1; a least-squares fit over a wide range of m rather than the two-grid

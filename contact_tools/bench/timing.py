@@ -22,8 +22,8 @@ FMU
     setting's instance is open at once and the rounds go round-robin over the settings, each for
     as many rounds as its budget allows: the cheap ones (up to ``max_rounds``) side by side
     throughout, the dear ones (``repeats``) within the first rounds, so that a slow spell of the
-    machine hits the settings compared alike (timed one setting after the other, one run had
-    linear theory's steps at 39 µs and FASTSIM 10×10 elliptic's at 23 µs). The first
+    machine hits the settings compared alike (timed one setting after the other, a slow spell
+    once made linear theory's steps dearer than FASTSIM's: docs/notes/benchmark.md). The first
     round's outputs are compared with the in-process results. Note: the FMU warm-starts each step
     from the previous one (what a co-simulation does); between unrelated cases that gains little,
     so exact-solver steps cost about an in-process call plus the FMU overhead.

@@ -64,109 +64,34 @@ from ..sweep import executor
 #: Axes of the shipped table and of a quick build (tests of the pipeline, trials).
 AXES = {"full": Axes(ghost_below=1), "small": Axes(n_ab=4, n_theta=7, n_psi=4, n_s=8)}
 #: The exact solver of the build: M × M elements, extrapolated (module docstring), and the finer
-#: grid of the nodes with a/b outside ``FINE_INSIDE``, the ends of the axis, where the square
-#: grid's elements are most elongated. Measured against 96×96 extrapolated on 12 random nodes per
-#: row (|F| / Mz max, % of μN and μN·c): a/b = 0.1: 48×48 0.21 / 0.75, 64×64 0.57 / 1.21 (its
-#: half grid, 32, is short of the first-order range), 80×80 0.18 / 0.43; a/b = 0.178: 0.27 / 0.58,
-#: 0.32 / 0.51, 0.21 / 0.33. Linear range against Kalker's table (Kalker 1990, Table E.3) at
-#: a/b = 10: C22 +1.6 % at 48×48, +0.2 % at 80×80; at a/b = 5.6 +0.9 % at 48×48. (The +0.2 %
-#: is a chance of the two-grid extrapolation: at a/b = 10 the values move by up to 1 % from one
-#: grid to the next; single grids with square elements, 160×16 to 400×40 fitted in 1/m, converge
-#: to C22 +1.2 % and C11 +0.8 % above Kalker's table, at ν = 0.25 and 0.28.) The upper
-#: bound is None (``--fine-above``): 80×80 at a/b = 10 costs about 9 s per ray and worker, a row
-#: of rays 3.3 h on two; the large a/b take the wide grid below instead.
-#: Against the converged references of ``check`` (single states, extrapolated; |F| / Mz max, % of
-#: μN and μN·c), at a/b < 0.3, 60 random and 60 hard-region states: 48×48 1.22 / 1.03 and
-#: 2.03 / 1.48, 56×56 1.08 / 0.78 and 0.77 / 0.93, 64×64 0.51 / 0.64 and 0.71 / 0.98, 72×72
-#: 1.06 / 0.63 and 0.60 / 0.74, 80×80 0.13 / 0.37 and 0.17 / 0.27; grids finer across the
-#: contact than along it were no better (40 and 40 states: 48×96 0.71 / 0.68 and 0.61 / 0.27,
-#: 40×120 0.36 / 0.48 and 0.42 / 0.42, 64×128 0.52 / 0.44 and 0.41 / 0.33). At a/b 0.28-0.5
-#: (80 and 80): 48×48 0.52 / 0.43 and 0.66 / 0.32, 80×80 0.15 / 0.21 and 0.11 / 0.16: the
-#: 48×48 rows' own error is a good part of the hard region's largest errors (``check``): the 260
-#: rays of the rows a/b = 0.316 and 0.562 that the six worst hard-region states read, solved on
-#: 80×80 in a patched copy, took those states from 1.08, 1.03, 1.00, 1.00 % (a/b 0.466, 0.132,
-#: 0.716, 0.326) to 0.95, 1.05, 0.96, 0.04 % of μN (the hard region's p95 0.39 -> 0.37 %); the
-#: state at a/b = 0.132 is limited by the a/b nodes (README). The whole row a/b = 0.316 on 80×80
-#: (``--fine-below 0.4``, 2,650 rays, about 1.9 h on two workers), on ``check``'s states with a/b
-#: in 0.178-0.562 (515 random, 478 hard region): |F| p95 0.43 -> 0.24 and 0.47 -> 0.34 %, max
-#: 0.92 -> 0.79 and 1.08 -> 1.07 % (the last at a/b = 0.466, which reads the row 0.562). The
-#: row a/b = 0.562 on 80×80 too (``--fine-below 0.6``, 2,650 rays, about 2 h): ``check``'s random
-#: states at a/b 0.316-0.562 and 0.562-1, |F| p95 0.29 -> 0.20 and 0.26 -> 0.20 %, max 0.77 ->
-#: 0.75 and 0.45 -> 0.43 %; the hard region's max 1.07 -> 0.96 % (a/b = 0.716; the state at 0.466
-#: 0.95 %), p95 0.33 -> 0.30 %.
+#: grid of the nodes with a/b outside ``FINE_INSIDE``, the low end of the axis, where the square
+#: grid's elements are most elongated and 48×48 is biased in Mz (64×64, whose half grid of 32 is
+#: short of the first-order range, is worse there). The upper bound is None (``--fine-above``):
+#: the large a/b take the wide grid below instead, at a fraction of the cost. Why these grids,
+#: and what each row took the held-out errors from and to: docs/notes/table_build.md.
 DEFAULT_GRID, DEFAULT_FINE_GRID, FINE_INSIDE = 48, 80, (0.6, None)
 #: ``--wide-above A``: inside ``FINE_INSIDE`` and above a/b = A the nodes are solved on 2M × M
 #: elements: along the rolling direction, where the contact is long, the square grid's elements
-#: are a/b times as long as wide. Measured against the converged exact theory (the references of
-#: ``check``) on its states with a/b in 7..10 (80 random, 80 hard region, 41 spin band; |F| / Mz
-#: max, % of μN and μN·c): 48×48 0.41 / 0.36, 0.75 / 0.29, 0.96 / 1.35; 96×48 0.31 / 0.37,
-#: 0.12 / 0.23, 0.46 / 0.57; at a/b 4..7 (80, 80, 82): 48×48 0.39 / 0.41, 0.77 / 0.54,
-#: 0.75 / 0.80; 96×48 0.30 / 0.22, 0.29 / 0.20, 0.43 / 0.21 (80×40 and 64×32 were worse than
-#: 48×48 on the spin band, 72×48 everywhere). Linear range against Kalker's table at a/b = 10,
-#: ν = 0.25: C11 +0.96 -> +0.56 %, C22 +1.60 -> +1.17 %; at a/b = 5.6 +0.54 -> +0.23 %,
-#: +0.87 -> +0.47 %. Cost per ray (32 magnitudes, warm-started) at a/b = 5.6 and 10: 48×48
-#: 1.4-3.0 s, 96×48 4.5-7.2 s (one process), so the rows a/b = 5.6 and 10 of the shipped axes
-#: (5,300 rays) take about 3.7 h on two workers instead of 0.6-0.9 h (measured: 1 h 52 min a row).
-#: Default 4: the shipped table's design, both rows on 96×48; on ``check``'s spin band this took
-#: the |F| / Mz max from 1.22 / 1.52 (both on 48×48) to 1.25 / 1.29 (a/b = 10 on 96×48) and
-#: 0.83 / 0.84.
+#: are a/b times as long as wide, and its two-grid extrapolation scatters there (the spin band of
+#: ``check``). Default 4: the shipped table's design, the rows a/b = 5.6 and 10 on 96×48 (other
+#: shapes tried, and the cost: docs/notes/table_build.md).
 WIDE_ABOVE: float | None = 4.0
 # The ghost row of a/b (``--ghost-below``, ``grid.Axes``) is solved like the rows next to it
 # (80×80 below ``FINE_INSIDE``), although its weight in the first interval's cubic is at most
-# 0.064: 48×48 there is biased in Mz. Measured with the ghost row a/b = 0.0562 on 48×48 (2,650
-# rays in 18 min on two workers) against the table without it, on the states of ``check`` with
-# a/b in [0.1, 0.178] (286 random, 240 hard region; % of μN and μN·c): |F| p95 0.35 -> 0.23 and
-# 0.58 -> 0.35, max 0.97 -> 0.56 and 1.03 -> 0.71; but Mz worse in 280 of the 286 random states,
-# median 0.18 -> 0.25, p95 0.30 -> 0.39, hard-region max 0.81 -> 0.93. On four rays at a/b =
-# 0.0562 against 96×96 (extrapolated), Mz is 0.47-1.47 % of μN·c off on 48×48, 0.10-0.37 % on
-# 80×80 (Fx and Fy within 0.26 and 0.06 % of μN); on the four states of ``grid.Axes``,
-# |F| 0.31, 0.31, 0.14, 0.36 % with the row on 80×80 and 0.32, 0.32, 0.15, 0.37 on 48×48, Mz
-# 0.33, 0.35, 0.28, 0.91 against 0.38, 0.39, 0.32, 0.93 % (82 rays: 536 s against 78 s, one
-# process). The shipped table has it on 80×80 (``AXES["full"]``; 2,628 rays in 1 h 44 min on two
-# workers): on all of ``check``'s states with the row a/b = 0.316 on 80×80 too, random |F| max
-# 0.98 -> 0.79 %, hard-region p95 0.34 -> 0.33 %, Mz max 0.89 -> 0.91 % (a/b = 0.11).
-# ``--tol``: the exact solver's tolerance at the nodes (``config``). The table shipped before was
-# built with the exact method's default, 1e-5, the shipped one with ``DEFAULT_TOL`` and
-# ``DEFAULT_TOL_SLIDING`` (below). Measured on 40 random rays of each kind (two workers on
-# this 2-core machine, s per ray, default -> 1e-4): 80×80 2.55 -> 1.84, 48×48 0.53 -> 0.34,
-# 96×48 2.24 -> 1.40, the forces s·g within 3.7e-5 of μN (Mz of μN·c) of the 1e-5 values and
-# the slip fraction within 6.6e-4: a build of the shipped design from scratch takes about 6.0 h
-# instead of 9.0 h (the design before the row a/b = 0.316 on 80×80 and the ghost row; with them
-# about 8.5 h instead of 12.2 h). Rays of different tolerances are not reused for one another.
-# Looser still (6 random rays each, one process beside a running build, time relative to 1e-5
-# and the largest force change s·g in % of μN): 48×48 at a/b = 1: 1e-4 0.69 and 0.0014, 3e-4
-# 0.56 and 0.0031, 1e-3 0.42 and 0.014; 80×80 at a/b = 0.178: 0.70 and 0.0027, 0.58 and
-# 0.0080, 0.45 and 0.059.
-# Measured again 2026-11-25 on 6 random rays per row (one process beside a running build; time
-# relative to 1e-5, the fine grid's sweeps in the same ratio within 0.03; the largest node change
-# s·g in % of μN), for 3e-4, 5e-4, 1e-3: 80×80 at a/b = 0.178 0.59, 0.53, 0.45 and 0.008, 0.014,
-# 0.059; at a/b = 0.562 0.58, 0.51, 0.45 and 0.007, 0.016, 0.028; 96×48 at a/b = 10 0.50, 0.45,
-# 0.38 and 0.007, 0.019, 0.055; 48×48 at a/b = 1 0.57, 0.51, 0.42 and 0.003, 0.011, 0.014. The
-# shipped design from scratch (about 14 h at 1e-5) would take about 7.8 h at 3e-4, 7.0 h at 5e-4
-# and 6.0 h at 1e-3.
+# 0.064: 48×48 there is biased in Mz. ``--tol``: the exact solver's tolerance at the nodes
+# (``config``); rays of different tolerances are not reused for one another. A looser tolerance
+# than the exact method's default (1e-5) changes the nodes by a small fraction of the table's
+# 1 % target at about half the build time (the trials: docs/notes/table_build.md).
 #: ``--tol-sliding``: the tolerance once the ray's previous node slides on at least this fraction
-#: of the contact area. Measured 2026-11-25 on the first 941 rays of a build at ``--tol 5e-4``
-#: (the ghost row, 80×80) against the table then shipped (1e-5): the largest node change s·g is
-#: 0.006 % of μN in partial slip and 0.058 % at full sliding with a little spin (slip fraction
-#: 1, θ near π/2, the nodes the hard region of ``check`` reads), p99 0.038 %; on 868 of those
-#: rays solved again with ``--tol-sliding 1e-4`` max 0.011 % (a node just past slip fraction
-#: 0.87, still at 5e-4), p99 0.007 %, median 0.002 % (5e-4 alone: 0.058, 0.039, 0.008 %), at
-#: no lower speed on this row (44 rays a minute with other work beside it, 48 without). On 4-6
-#: rays per row kind (one process beside the build; time relative to 1e-5 and largest change in
-#: % of μN; 5e-4, then 5e-4 with 1e-4 from here on, then 1e-3 with 1e-4): 80×80 at a/b =
-#: 0.178 0.54 and 0.018, 0.57 and 0.003, 0.52 and 0.006; at a/b = 0.562 0.52 and 0.008, 0.56
-#: and 0.006, 0.51 and 0.007; 48×48 at a/b = 1 0.54 and 0.006, 0.57 and 0.006, 0.52 and 0.025;
-#: 96×48 at a/b = 10 0.48 and 0.020, 0.52 and 0.015, 0.46 and 0.027. Full sliding is where a
-#: loose tolerance stops early (the slip direction converges slowly) and where its nodes cost
-#: least.
+#: of the contact area. Full sliding is where a loose tolerance stops early (the slip direction
+#: converges slowly) and where its nodes cost least (docs/notes/table_build.md).
 SLIDING = 0.9
-#: ``--tol`` and ``--tol-sliding`` by default: the shipped table's (measured: the comments above).
+#: ``--tol`` and ``--tol-sliding`` by default: the shipped table's (the comments above).
 DEFAULT_TOL, DEFAULT_TOL_SLIDING = 5e-4, 1e-4
 #: The exact solver's ``spin_shift`` of a table whose configuration does not name one: 1/4, the
 #: solver's fixed sampling before it became an option (default now 1/6, CONTACT's). Every table so
 #: far was built with it. The nodes are extrapolated solves, where the shift's first-order term
-#: cancels (at 52×52 extrapolated the two give the same |F| p95 and max on the benchmark's 400
-#: cases, Mz p95 0.58 against 0.56 % of μN·c: ``exact/solver.py``).
+#: cancels (docs/notes/exact_solver.md).
 SPIN_SHIFT = 0.25
 # The canonical problem every node is solved in (similarity: any values would do): c = √(ab),
 # G, μ, and N = G c² so that G c²/(μN) = 1 and the reduced creepages are C·(ξ, η, c φ).
@@ -224,8 +149,8 @@ def config(axes: Axes, grid: int, fine_grid: int | None = None,
     """The build's configuration (recorded in the table): ``coarse``, the a/b range of the
     ``grid`` nodes, outside it ``fine_grid`` (``FINE_INSIDE``); inside it above ``wide_above``
     2·grid × grid (``WIDE_ABOVE``; None: none); ``tol``: the exact solver's tolerance (None: its
-    default, recorded as absent, as in the tables built before the option; measured: the comment
-    above ``_C``), ``tol_sliding``: the tolerance after a node whose slip fraction reached
+    default, recorded as absent, as in the tables built before the option; the comment above
+    ``SLIDING``), ``tol_sliding``: the tolerance after a node whose slip fraction reached
     ``SLIDING`` (None: ``tol`` everywhere, recorded as absent)."""
     fine = grid if fine_grid is None else fine_grid
     wide = {} if wide_above is None else {"wide_above": wide_above, "wide_mx": 2 * grid,

@@ -72,6 +72,17 @@ class DrivenWheelsetFMU(WheelsetSlaveBase):
                             if self.xi_target > 0.0 else None)
         return DrivenWheelset(p, omega=p.V * (1.0 - self.xi0) / p.r0)
 
+    def _model_state(self):
+        state = self._model.state_values()
+        if self._controller is not None:
+            state["controller_integral"] = self._controller.integral
+        return state
+
+    def _set_model_state(self, values):
+        self._model.set_state_values(values)
+        if self._controller is not None:
+            self._controller.integral = values["controller_integral"]
+
     def _update_outputs(self):
         m = self._model
         c = m.creepages()
@@ -88,6 +99,7 @@ class DrivenWheelsetFMU(WheelsetSlaveBase):
         if self._controller is not None:
             torque = self._controller.torque(torque, self._model.creepages()["xi_L"], step_size)
         self.torque_applied = torque
-        self._model.step(step_size, torque, self.Fx_L, self.Fx_R, self.brake)
+        self._model.step(step_size, torque, self.Fx_L, self.Fx_R, self.brake,
+                         self.Fx_L_rate + self.Fx_R_rate)
         self._update_outputs()
         return True

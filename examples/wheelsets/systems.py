@@ -49,26 +49,31 @@ def make_system(wheelset_fmu: str | Path, contact_fmu: str | Path,
                 contact_fmu_R: str | Path | None = None,
                 inputs: Mapping[str, Callable[[float], float]] | None = None,
                 scheme: str = "gauss-seidel", initial_exchange: bool = True,
-                rolling_speed: bool = False) -> CoSimulation:
+                rolling_speed: bool = False, hold: str = "constant") -> CoSimulation:
     """A wheelset FMU coupled to two instances of a contact FMU (same file unless
-    ``contact_fmu_R`` is given); ``rolling_speed``: see :func:`connections`."""
+    ``contact_fmu_R`` is given); ``rolling_speed``: see :func:`connections`; ``scheme`` and
+    ``hold``: :class:`master.CoSimulation`."""
     comps = {"contact_L": contact_fmu, "contact_R": contact_fmu_R or contact_fmu,
              "wheelset": wheelset_fmu}
     starts = {"wheelset": dict(wheelset_params or {}),
               "contact_L": dict(contact_params or {}), "contact_R": dict(contact_params or {})}
     return CoSimulation(comps, connections(rolling_speed) if rolling_speed else CONNECTIONS,
-                        starts, inputs=inputs, scheme=scheme, initial_exchange=initial_exchange)
+                        starts, inputs=inputs, scheme=scheme, initial_exchange=initial_exchange,
+                        hold=hold)
 
 
 # ------------------------------------------------------------------------------------------------
 # Creep time constants and the communication step
 # ------------------------------------------------------------------------------------------------
 def creep_coefficients_f(N: float = 50e3, r0: float = 0.46, R_rail: float = 0.3,
-                         E: float = 210e9, nu: float = 0.28) -> dict[str, float]:
+                         E: float = 210e9, nu: float = 0.28,
+                         curvatures: tuple[float, float] | None = None) -> dict[str, float]:
     """Kalker's linear creep coefficients f11, f22, f23, f33 of the nominal contact (conical tread
-    on a rail crown of radius ``R_rail``), from ``contact_core`` (Hertz + Kalker's table)."""
+    on a rail crown of radius ``R_rail``; or, given ``curvatures``, the relative curvatures A, B
+    in 1/m of a contact from real profiles), from ``contact_core`` (Hertz + Kalker's table)."""
     import contact_core as cc
-    p = cc.hertz_from_radii(N, r0, math.inf, R_rail, E, nu)
+    p = (cc.hertz_from_radii(N, r0, math.inf, R_rail, E, nu) if curvatures is None
+         else cc.hertz(N, *curvatures, E, nu))
     G = cc.shear_modulus(E, nu)
     c11, c22, c23, c33 = cc.creep_coefficients(p.a / p.b, nu)
     c = math.sqrt(p.a * p.b)

@@ -56,6 +56,6 @@ class TangentTrackWheelset(WheelsetSlaveBase):
 
     def do_step(self, current_time, step_size):
         self._model.step(step_size, self.Fx_L, self.Fy_L, self.Mz_L,
-                         self.Fx_R, self.Fy_R, self.Mz_R)
+                         self.Fx_R, self.Fy_R, self.Mz_R, self.rates())
         self._update_outputs()
         return True

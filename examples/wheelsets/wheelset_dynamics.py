@@ -77,7 +77,14 @@ wheelset model, not a creep force; it bounds the hunting limit cycle of conical 
 Integration within one communication step: the contact forces are held (zero-order hold, what an
 FMI co-simulation gives); the remaining ODE (suspension, flange spring, transition inertia) is
 integrated with classical Runge-Kutta (4th order) in ``ceil(h / max_substep)`` equal substeps.
-The coupling is therefore explicit: see ``README.md`` for the step-size limit it implies.
+The coupling is therefore explicit: see ``README.md`` for the step-size limit it implies. Given
+the forces' rates (the FMUs' inputs ``Fx_L_rate``, ...), the forces change linearly over the
+step instead, F(t) = F + Ḟ (t - t_k) (a first-order hold; the linearly implicit master,
+``master.py``, ramps them to their predicted end values).
+
+State as data: :meth:`LateralWheelset.state_values` and :meth:`DrivenWheelset.state_values` are
+the models' states as a flat mapping name -> float (``set_state_values`` restores one), for the
+FMUs' ``fmi2GetFMUstate``/``fmi2SetFMUstate`` (``wheelset_fmu_common``).
 
 The driven wheelset (:class:`DrivenWheelset`) is a wheelset with cylindrical wheels (λ = 0, hence
 η = φ = 0) on straight track at constant speed V, whose rotation Ω about its axle is driven by a
@@ -209,25 +216,36 @@ class LateralWheelset:
         return vy, dpsi, ay, apsi
 
     def step(self, h: float, Fx_L: float, Fy_L: float, Mz_L: float, Fx_R: float, Fy_R: float,
-             Mz_R: float) -> None:
-        """Advance by h with the contact forces (rail on wheel, track frame) held constant."""
+             Mz_R: float, rates: tuple[float, ...] | None = None) -> None:
+        """Advance by h with the contact forces (rail on wheel, track frame) held constant, or,
+        given ``rates`` (their time derivatives in the same order), changing linearly from their
+        values at the step's start."""
         if not (h > 0.0):
             return
         p, s = self.p, self.s
         fy = Fy_L + Fy_R
         mz = p.b0 * (Fx_L - Fx_R) + Mz_L + Mz_R
+        dfy = dmz = 0.0
+        if rates is not None:
+            dFx_L, dFy_L, dMz_L, dFx_R, dFy_R, dMz_R = rates
+            dfy = dFy_L + dFy_R
+            dmz = p.b0 * (dFx_L - dFx_R) + dMz_L + dMz_R
         n = max(1, math.ceil(h / p.max_substep - 1e-9))
         dt = h / n
         y, psi, vy, dpsi, t = s.y, s.psi, s.vy, s.dpsi, self.t
+        t0 = t
         f = self._deriv
         for _ in range(n):
-            k1 = f(t, y, psi, vy, dpsi, fy, mz)
+            fy0, mz0 = fy + dfy * (t - t0), mz + dmz * (t - t0)
+            fy1, mz1 = fy0 + 0.5 * dt * dfy, mz0 + 0.5 * dt * dmz
+            fy2, mz2 = fy0 + dt * dfy, mz0 + dt * dmz
+            k1 = f(t, y, psi, vy, dpsi, fy0, mz0)
             k2 = f(t + 0.5 * dt, y + 0.5 * dt * k1[0], psi + 0.5 * dt * k1[1],
-                   vy + 0.5 * dt * k1[2], dpsi + 0.5 * dt * k1[3], fy, mz)
+                   vy + 0.5 * dt * k1[2], dpsi + 0.5 * dt * k1[3], fy1, mz1)
             k3 = f(t + 0.5 * dt, y + 0.5 * dt * k2[0], psi + 0.5 * dt * k2[1],
-                   vy + 0.5 * dt * k2[2], dpsi + 0.5 * dt * k2[3], fy, mz)
+                   vy + 0.5 * dt * k2[2], dpsi + 0.5 * dt * k2[3], fy1, mz1)
             k4 = f(t + dt, y + dt * k3[0], psi + dt * k3[1], vy + dt * k3[2], dpsi + dt * k3[3],
-                   fy, mz)
+                   fy2, mz2)
             y += dt / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0])
             psi += dt / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])
             vy += dt / 6.0 * (k1[2] + 2.0 * k2[2] + 2.0 * k3[2] + k4[2])
@@ -235,6 +253,15 @@ class LateralWheelset:
             t += dt
         s.y, s.psi, s.vy, s.dpsi = y, psi, vy, dpsi
         self.t += h
+
+    def state_values(self) -> dict[str, float]:
+        """The state (time and the four states) as name -> float."""
+        s = self.s
+        return {"t": self.t, "y": s.y, "psi": s.psi, "vy": s.vy, "dpsi": s.dpsi}
+
+    def set_state_values(self, values: dict[str, float]) -> None:
+        self.t = values["t"]
+        self.s = LateralState(values["y"], values["psi"], values["vy"], values["dpsi"])
 
 
 # ------------------------------------------------------------------------------------------------
@@ -296,20 +323,28 @@ class DrivenWheelset:
                 "xi_R": xi, "eta_R": 0.0, "phi_R": 0.0, "N_R": n}
 
     def step(self, h: float, torque_mid: float, Fx_L: float, Fx_R: float,
-             brake: float = 0.0) -> None:
+             brake: float = 0.0, Fx_rate: float = 0.0) -> None:
         """Advance by h: ``I_y dΩ/dt = T - T_b(Ω) - r0 (Fx_L + Fx_R)`` and, with a vehicle mass,
-        ``m dV/dt = Fx_L + Fx_R``, with the forces held and the torque at mid-step (exact for a
-        torque linear in time)."""
+        ``m dV/dt = Fx_L + Fx_R``, with the forces held (or, with ``Fx_rate`` = d(Fx_L + Fx_R)/dt,
+        changing linearly: their mean over the step is then the value at mid-step) and the torque
+        at mid-step (exact for a torque linear in time)."""
         if not (h > 0.0):
             return
         p = self.p
-        force = Fx_L + Fx_R
+        force = Fx_L + Fx_R + 0.5 * h * Fx_rate
         w_reg = p.V_reg / p.r0
         brake_torque = -abs(brake) * self.omega / max(abs(self.omega), w_reg)
         self.omega += h * (torque_mid + brake_torque - p.r0 * force) / p.I_y
         if p.m_vehicle > 0.0:
             self.V += h * force / p.m_vehicle
         self.t += h
+
+    def state_values(self) -> dict[str, float]:
+        """The state (time, forward speed, angular speed) as name -> float."""
+        return {"t": self.t, "V": self.V, "omega": self.omega}
+
+    def set_state_values(self, values: dict[str, float]) -> None:
+        self.t, self.V, self.omega = values["t"], values["V"], values["omega"]
 
 
 def param_fields(cls) -> list[tuple[str, float, str]]:

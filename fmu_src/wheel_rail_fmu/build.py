@@ -2,6 +2,7 @@
 
     build-fmu [--scene SCENE] [--method METHOD] [--out DIR] [--name NAME] [--set NAME=VALUE ...]
               [--wrapper {auto,native,pythonfmu}] [--geometry-input {curvatures,semi_axes}]
+              [--contacts N]
 
 (``python build_fmu.py ...`` in a checkout does the same.) ``--scene``: a shipped scene
 (``contact_core.scenes()``) or the path of a scene ``.toml``; default ``full``. ``--method``: the
@@ -11,7 +12,15 @@ parameter, checked now with the checks the FMU makes at initialisation (``--set 
 unless ``--name`` is given. ``--geometry-input``, for a scene with ``varying_geometry``: the
 geometry inputs are the curvatures A, B (``curvatures``, the default: the FMU solves Hertz's patch)
 or the host's semi-axes a, b (``semi_axes``: a and b are then inputs, not outputs; the file name
-ends in ``_semi_axes``).
+ends in ``_semi_axes``). ``--contacts N``: one FMU of N independent contacts, evaluated together
+at every step, each with its own inputs and outputs named ``c[k].<name>`` (k = 1 .. N) and the
+parameters shared (:func:`.model_description.contact_variable`; the file name ends in
+``_<N>contacts``).
+
+The model description says ``providesDirectionalDerivative="true"`` when the Linux binary is
+this project's wrapper (``fmi2GetDirectionalDerivative`` calls the slave); pythonfmu's binaries
+have no directional derivatives (its Windows binary, which the archive carries as it is, answers
+``fmi2Error``).
 
 What goes in:
 
@@ -54,7 +63,8 @@ from xml.etree import ElementTree
 import contact_core
 
 from . import entry
-from .model_description import BUILD_CONFIG, BuildConfig, VarSpec, variables_for
+from .model_description import (BUILD_CONFIG, BuildConfig, VarSpec, check_contacts,
+                                variables_for)
 
 GEOMETRY_INPUTS = contact_core.variables.GEOMETRY_INPUTS
 
@@ -201,6 +211,13 @@ def use_native_wrapper(fmu: str | Path) -> bool:
     return True
 
 
+def _generic_linux_binary() -> bytes:
+    """pythonfmu's generic Linux binary (the fallback)."""
+    import pythonfmu
+    path = Path(pythonfmu.__file__).parent / "resources" / "binaries" / "linux64"
+    return next(f.read_bytes() for f in sorted(path.glob("*.so")))
+
+
 def _binaries(stage: Path, wrapper: str) -> dict[str, bytes]:
     """Archive name -> bytes of the binaries (see the module docstring)."""
     import pythonfmu
@@ -279,17 +296,19 @@ def _write_archive(files: dict[str, bytes], dest: Path) -> None:
 def build(scene: str | Path = "full", method: str | None = None, out: str | Path = "dist",
           parameters: dict | None = None, name: str | None = None,
           wrapper: str = "auto", core: str | Path | None = None,
-          geometry_input: str = GEOMETRY_INPUTS[0]) -> Path:
+          geometry_input: str = GEOMETRY_INPUTS[0], contacts: int = 1) -> Path:
     """Build the FMU for ``scene`` and return its path (see the module docstring).
 
     ``core``: the ``contact_core`` sources to bundle (default: the installed package; another
     version of it, e.g. to compare releases in one co-simulation). ``geometry_input``: with
     ``varying_geometry``, "curvatures" (inputs A, B) or "semi_axes" (inputs a, b).
+    ``contacts``: the number of contacts (``c[k].<name>`` variables when more than one).
     """
     from .validation import validate
 
     if wrapper not in WRAPPERS:
         raise ValueError(f"wrapper={wrapper!r} is unknown: allowed {list(WRAPPERS)}")
+    check_contacts(contacts)
     sc = contact_core.load_scene(scene)
     method, parameters = resolve_parameters(sc, method, parameters)
     contact_core.variables.geometry_names(geometry_input)     # a ValueError naming it
@@ -299,7 +318,8 @@ def build(scene: str | Path = "full", method: str | None = None, out: str | Path
                          f"'varying_geometry' (scene {sc.name!r} has a fixed geometry)")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    suffix = "_semi_axes" if geometry_input == "semi_axes" else ""
+    suffix = ("_semi_axes" if geometry_input == "semi_axes" else "") \
+        + (f"_{contacts}contacts" if contacts > 1 else "")
     dest = out / f"{name or f'{MODEL_NAME}_{sc.name}_{method}{suffix}'}.fmu"
 
     with tempfile.TemporaryDirectory(prefix="wheel_rail_fmu_") as tmp:
@@ -308,16 +328,19 @@ def build(scene: str | Path = "full", method: str | None = None, out: str | Path
         module = _stage_bundle(resources, Path(core or Path(contact_core.__file__).parent))
         (resources / "requirements.txt").write_text(requirements_text())
         files = _binaries(stage, wrapper)
+        native = files.get(f"binaries/linux64/{MODEL_NAME}.so") != _generic_linux_binary()
         identity = {"scene": sc.name, "effects": sc.effects.names(), "method": method,
                     "parameters": parameters, "description": sc.description, "module": module,
                     "entry": hashlib.sha256((resources / f"{module}.py").read_bytes()).hexdigest(),
                     "binaries": {k: hashlib.sha256(v).hexdigest() for k, v in files.items()}}
         if varying:
             identity["geometry_input"] = geometry_input
+        if contacts > 1:
+            identity["contacts"] = contacts
         guid = str(uuid.uuid5(uuid.NAMESPACE_URL, "urn:contact_core:WheelRailContact:"
                               + json.dumps(identity, sort_keys=True)))
         cfg = BuildConfig(sc.name, sc.description, sc.effects.names(), method, guid, parameters,
-                          geometry_input)
+                          geometry_input, contacts)
         (resources / BUILD_CONFIG).write_text(cfg.to_json())
 
         # The model description comes from the slave as the host will load it, after the
@@ -332,6 +355,8 @@ def build(scene: str | Path = "full", method: str | None = None, out: str | Path
                 raise
             raise ValueError(str(e)) from None
         xml = slave.to_xml()
+        if not native:          # pythonfmu's binary: no directional derivatives
+            xml.find("CoSimulation").set("providesDirectionalDerivative", "false")
         ElementTree.indent(xml)
         files["modelDescription.xml"] = ElementTree.tostring(xml, encoding="UTF-8",
                                                              xml_declaration=True) + b"\n"
@@ -366,6 +391,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--geometry-input", choices=GEOMETRY_INPUTS, default=GEOMETRY_INPUTS[0],
                    help="with a scene of effect varying_geometry: inputs A, B (curvatures, "
                         "default) or the host's semi-axes a, b (semi_axes)")
+    p.add_argument("--contacts", type=int, default=1, metavar="N",
+                   help="the number of independent contacts of the FMU, variables c[k].<name> "
+                        "for k = 1 .. N when N > 1 (default 1)")
     a = p.parse_args(argv)
     params = {}
     for item in a.params:
@@ -377,7 +405,7 @@ def main(argv: list[str] | None = None) -> int:
         params[k.strip()] = v.strip()
     try:
         path = build(a.scene, a.method, a.out, params, a.name, a.wrapper,
-                     geometry_input=a.geometry_input)
+                     geometry_input=a.geometry_input, contacts=a.contacts)
     except (ValueError, WrapperUnavailable) as e:
         p.error(str(e))
     print(path)

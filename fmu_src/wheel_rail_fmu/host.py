@@ -30,7 +30,7 @@ import weakref
 from collections import Counter, deque
 from ctypes import byref
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 from fmpy import calloc, extract, free, read_model_description
 from fmpy.fmi1 import FMICallException
@@ -182,10 +182,11 @@ class FmuInstance:
 
 
 def run_in_libcosim(paths: list[str | Path], inputs: Mapping[str, float], steps: int = 5,
-                    initial: bool = False) -> list[dict[str, float]]:
+                    initial: bool = False,
+                    outputs: Sequence[str] = ("Fx", "Fy", "Mz")) -> list[dict[str, float]]:
     """Run the contact FMUs ``paths`` in one libcosim execution (DNV's co-simulation engine,
     through libcosimpy; 1 ms steps) with constant ``inputs`` (set as initial values with
-    ``initial``, else overridden at every step); their last Fx, Fy, Mz (those they have)."""
+    ``initial``, else overridden at every step); their last ``outputs`` (those they have)."""
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimManipulator import CosimManipulator
@@ -215,6 +216,6 @@ def run_in_libcosim(paths: list[str | Path], inputs: Mapping[str, float], steps:
         raise RuntimeError("libcosim stopped the run (an FMU returned a status other than OK)")
     out = []
     for i, vr in slaves:
-        names = [n for n in ("Fx", "Fy", "Mz") if n in vr]
+        names = [n for n in outputs if n in vr]
         out.append(dict(zip(names, observer.last_real_values(i, [vr[n] for n in names]))))
     return out

@@ -16,6 +16,10 @@ modelDescription.xml, and the host at run time: both see the same resources fold
   (:func:`contact_core.variables.scene_variables`);
 * outputs ``Fx`` (longitudinal), ``Fy`` (lateral), ``Mz`` (spin), and always ``a``, ``b``, ``p0``,
   ``slip_fraction``, ``method_used``;
+* with ``contacts`` N > 1 (``build-fmu --contacts N``) each of those inputs and outputs once per
+  contact, named ``c[k].<name>`` for k = 1 .. N (:func:`contact_variable`; FMI 2.0's structured
+  naming, sec. 2.2.9), each output depending on its own contact's inputs only; the parameters
+  are shared;
 * parameters ``method``, ``mu`` (with ``saturation`` and without ``variable_friction``), ``E``,
   ``nu``, ``R_wheel``, ``R_wheel_profile``, ``R_rail_profile``, the friction law's
   ``friction_*`` with ``falling_friction``, and the numeric/string options of
@@ -24,7 +28,9 @@ modelDescription.xml, and the host at run time: both see the same resources fold
 
 XML post-processing (:func:`finalize_model_description`), because pythonfmu 0.7 writes neither units
 nor ``ModelStructure/InitialUnknowns``: adds ``UnitDefinitions`` and each Real's ``unit``;
-rebuilds ``ModelStructure`` with ``Outputs`` (each with its input dependencies) and
+sets ``providesDirectionalDerivative`` (the slave's ``get_directional_derivative``, called by
+this project's FMI wrapper); rebuilds ``ModelStructure`` with ``Outputs`` (each with its input
+dependencies) and
 ``InitialUnknowns`` (every output has ``initial="calculated"``, FMI 2.0 sec. 2.2.8, so each must be listed; no dependencies
 attribute there = depends on all knowns, i.e. inputs and parameters); writes Real start values
 round-trip exactly (``repr``) and finite (hosts such as OMSimulator refuse infinite values: a
@@ -67,7 +73,10 @@ PYTHON_TYPES: dict[str, type] = {"Real": float, "Integer": int, "Boolean": bool,
 @dataclass(frozen=True)
 class VarSpec:
     """One FMU variable. ``type``: Real/Integer/Boolean/String; ``depends``: for outputs, the
-    inputs it depends on; ``option``: (method, option name) for method-option parameters."""
+    inputs it depends on; ``option``: (method, option name) for method-option parameters;
+    ``contact``: the contact (1 .. N) of a contact's input or output in an FMU of N > 1
+    contacts, else 0; ``local``: the contact's own name of the variable (``xi`` of
+    ``c[2].xi``), else ``name``."""
 
     name: str
     type: str
@@ -79,6 +88,12 @@ class VarSpec:
     initial: str | None = None
     depends: tuple[str, ...] = ()
     option: tuple[str, str] | None = None
+    contact: int = 0
+    local: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.local:
+            object.__setattr__(self, "local", self.name)
 
 
 @dataclass(frozen=True)
@@ -93,6 +108,8 @@ class BuildConfig:
     parameters: dict[str, Any]
     #: with ``varying_geometry``: "curvatures" (inputs A, B) or "semi_axes" (inputs a, b)
     geometry_input: str = contact_core.variables.GEOMETRY_INPUTS[0]
+    #: the number of contacts (``c[k].<name>`` variables when more than one)
+    contacts: int = 1
 
     @classmethod
     def load(cls, resources: str | os.PathLike) -> "BuildConfig":
@@ -100,7 +117,8 @@ class BuildConfig:
             d = json.load(f)
         return cls(d["scene"], d.get("scene_description", ""), tuple(d["effects"]), d["method"],
                    d["guid"], dict(d.get("parameters", {})),
-                   d.get("geometry_input", contact_core.variables.GEOMETRY_INPUTS[0]))
+                   d.get("geometry_input", contact_core.variables.GEOMETRY_INPUTS[0]),
+                   int(d.get("contacts", 1)))
 
     def to_json(self) -> str:
         d = {"scene": self.scene, "scene_description": self.scene_description,
@@ -108,6 +126,8 @@ class BuildConfig:
              "parameters": self.parameters}
         if "varying_geometry" in self.effects:
             d["geometry_input"] = self.geometry_input
+        if self.contacts != 1:
+            d["contacts"] = self.contacts
         return json.dumps(d, indent=2, sort_keys=True) + "\n"
 
 
@@ -172,17 +192,45 @@ def _description(v) -> str:
     return v.description + (f"; allowed {r.text(v.name)}" if bounded else "")
 
 
+#: The largest number of contacts of one FMU.
+MAX_CONTACTS = 1000
+
+
+def contact_variable(k: int, name: str) -> str:
+    """The FMU's name of contact ``k``'s (1-based) variable ``name`` in an FMU of several
+    contacts: ``c[k].name`` (FMI 2.0 structured naming, sec. 2.2.9)."""
+    return f"c[{k}].{name}"
+
+
+def check_contacts(contacts: Any) -> int:
+    """``contacts`` as an int 1 <= N <= :data:`MAX_CONTACTS`, else ``ValueError``."""
+    if isinstance(contacts, bool) or not isinstance(contacts, int) \
+            or not 1 <= contacts <= MAX_CONTACTS:
+        raise ValueError(f"contacts={contacts!r} is invalid: allowed an integer 1 <= contacts "
+                         f"<= {MAX_CONTACTS}")
+    return contacts
+
+
+def _per_contact(specs: list[VarSpec], contacts: int) -> list[VarSpec]:
+    """Each of ``specs`` (a contact's inputs or outputs) once per contact (module docstring)."""
+    if contacts == 1:
+        return specs
+    return [replace(v, name=contact_variable(k, v.name), contact=k, local=v.name,
+                    depends=tuple(contact_variable(k, d) for d in v.depends))
+            for k in range(1, contacts + 1) for v in specs]
+
+
 def variables_for(effects: tuple[str, ...], method: str, methods: dict[str, type],
                   parameters: dict[str, Any] | None = None,
-                  geometry_input: str = contact_core.variables.GEOMETRY_INPUTS[0]
-                  ) -> list[VarSpec]:
+                  geometry_input: str = contact_core.variables.GEOMETRY_INPUTS[0],
+                  contacts: int = 1) -> list[VarSpec]:
     """The variables of an FMU built for ``effects`` with default ``method``: the contact's
-    (:func:`contact_core.variables.scene_variables`), the FMU's own parameters and the options
-    of the registered methods.
+    (:func:`contact_core.variables.scene_variables`), once per contact, the FMU's own
+    parameters and the options of the registered methods.
 
     ``methods`` is the registry (name -> class with ``code`` and ``default_options``);
     ``parameters`` overrides start values of parameters by name; ``geometry_input``: how the
-    geometry comes in with ``varying_geometry``.
+    geometry comes in with ``varying_geometry``; ``contacts``: their number (module docstring).
     """
     table = contact_core.variables.scene_variables(contact_core.Effects.from_names(effects),
                                                    geometry_input)
@@ -211,7 +259,8 @@ def variables_for(effects: tuple[str, ...], method: str, methods: dict[str, type
                        "exact") for v in table if v.causality == "parameter"]
     params += option_parameters(methods)
 
-    specs = inputs + outputs + params
+    check_contacts(contacts)
+    specs = _per_contact(inputs, contacts) + _per_contact(outputs, contacts) + params
     known = {v.name for v in params}
     unknown = sorted(set(overrides) - known)
     if unknown:
@@ -256,6 +305,7 @@ def finalize_model_description(root: Element, specs: list[VarSpec], guid: str,
                        {k: str(e) for k, e in exps.items()})
     children = list(root)
     cs = next(i for i, c in enumerate(children) if c.tag == "CoSimulation")
+    children[cs].set("providesDirectionalDerivative", "true")
     root.insert(cs + 1, units)
 
     by_name = {v.name: v for v in specs}

@@ -15,10 +15,13 @@ Layout (little-endian)::
 
 ``time``: the slave's last successful time (fmi2LastSuccessfulTime, a finite number).
 ``fresh``: whether the outputs are those of the current inputs (a boolean).
-``values``: every FMU variable by name (Real as JSON numbers, which round-trip exactly; NaN only
-for inputs, which a host may have set). ``result``: the contact result the next step starts from
-(the exact solver's warm start, written by its ``to_record()`` and read back by the method's
-``warm_state_from_record``, which checks it), its arrays referenced as ``{"array": index}``.
+``values``: every FMU variable by name (Real as JSON numbers, which round-trip exactly; NaN or
+infinite only for inputs and parameters, which a host may have set: the slave checks parameters
+as at fmi2ExitInitializationMode when it restores a state of Step Mode or Terminated).
+``result``: the contact result the next step starts from (the exact solver's warm start,
+written by its ``to_record()`` and read back by the method's ``warm_state_from_record``, which
+checks it), its arrays referenced as ``{"array": index}``; in an FMU of several contacts, a list
+of one such result (or null) per contact.
 """
 from __future__ import annotations
 
@@ -55,7 +58,7 @@ class StateError(ValueError):
 class FmuState:
     """What a state holds: the FMU's GUID, the slave's mode, its last successful time (s),
     whether its outputs are those of its inputs, every variable's value by name, and the last
-    contact result (None before the first loaded step)."""
+    contact result (None before the first loaded step; with several contacts a list of them)."""
 
     guid: str
     mode: str
@@ -68,8 +71,25 @@ class FmuState:
 def write(state: FmuState) -> bytes:
     """Serialize ``state`` (see the module docstring)."""
     arrays: list[np.ndarray] = []
+    result = ([_write_result(r, arrays) for r in state.result] if isinstance(state.result, list)
+              else _write_result(state.result, arrays))
+    specs = []
+    for a in arrays:
+        dtype = np.dtype(a.dtype).str
+        if dtype not in _DTYPES:
+            raise TypeError(f"warm state array of dtype {dtype} is not serializable")
+        specs.append([dtype, list(a.shape)])
+    header = json.dumps({"guid": state.guid, "mode": state.mode, "time": float(state.time),
+                         "fresh": bool(state.fresh), "values": dict(state.values),
+                         "result": result, "arrays": specs}, sort_keys=True).encode()
+    body = b"".join([_HEAD.pack(MAGIC, FORMAT_VERSION, len(header)), header]
+                    + [np.ascontiguousarray(a).tobytes() for a in arrays])
+    return body + hashlib.sha256(body).digest()
+
+
+def _write_result(r: Any, arrays: list[np.ndarray]) -> dict[str, Any] | None:
+    """A contact result as JSON data, its warm state's arrays appended to ``arrays``."""
     result = None
-    r = state.result
     if r is not None:
         warm = None
         if r.warm_state is not None:
@@ -86,23 +106,14 @@ def write(state: FmuState) -> bytes:
         result = {"method": r.method, "converged": bool(r.converged),
                   "iterations": int(r.iterations), "warm_state": warm,
                   **{k: float(getattr(r, k)) for k in _RESULT_FLOATS}}
-    specs = []
-    for a in arrays:
-        dtype = np.dtype(a.dtype).str
-        if dtype not in _DTYPES:
-            raise TypeError(f"warm state array of dtype {dtype} is not serializable")
-        specs.append([dtype, list(a.shape)])
-    header = json.dumps({"guid": state.guid, "mode": state.mode, "time": float(state.time),
-                         "fresh": bool(state.fresh), "values": dict(state.values),
-                         "result": result, "arrays": specs}, sort_keys=True).encode()
-    body = b"".join([_HEAD.pack(MAGIC, FORMAT_VERSION, len(header)), header]
-                    + [np.ascontiguousarray(a).tobytes() for a in arrays])
-    return body + hashlib.sha256(body).digest()
+    return result
 
 
-def read(blob: bytes, guid: str, variables: Iterable[tuple[str, str, str]]) -> FmuState:
+def read(blob: bytes, guid: str, variables: Iterable[tuple[str, str, str]],
+         contacts: int = 1) -> FmuState:
     """Parse and check a serialized state of the FMU ``guid`` whose variables are
-    ``(name, type, causality)``; raises :class:`StateError` naming the first problem."""
+    ``(name, type, causality)`` and which has ``contacts`` contacts; raises
+    :class:`StateError` naming the first problem."""
     blob = bytes(blob)
     if len(blob) < _HEAD.size + _CHECKSUM:
         raise StateError(f"the state has {len(blob)} bytes: too short to be an FMU state")
@@ -133,7 +144,15 @@ def read(blob: bytes, guid: str, variables: Iterable[tuple[str, str, str]]) -> F
             "boolean")
     values = _values(header["values"], list(variables))
     arrays = _arrays(header["arrays"], body[_HEAD.size + n:])
-    result = _result(header["result"], arrays)
+    used: set[int] = set()
+    if contacts == 1:
+        result = _result(header["result"], arrays, used)
+    else:
+        r = header["result"]
+        _expect(isinstance(r, list) and len(r) == contacts,
+                f"the state's result must be a list of {contacts} results (one per contact)")
+        result = [_result(item, arrays, used) for item in r]
+    _expect(len(used) == len(arrays), "the state has arrays its results do not use")
     return FmuState(guid, header["mode"], time, header["fresh"], values, result)
 
 
@@ -163,7 +182,7 @@ def _values(values: Any, variables: list[tuple[str, str, str]]) -> dict[str, Any
         if typ == "Real" and type(v) is int:  # JSON may write a whole float without ".0"
             v = values[name] = _finite(v, name)
         _expect(type(v) is PYTHON_TYPES[typ], f"{name}={v!r} in the state is not of type {typ}")
-        if typ == "Real" and causality != "input":
+        if typ == "Real" and causality == "output":
             _expect(math.isfinite(v), f"{name}={v!r} in the state is not finite")
         if typ == "Integer":
             _expect(_INT_MIN <= v <= _INT_MAX, f"{name}={v!r} in the state is out of range: "
@@ -193,9 +212,10 @@ def _arrays(specs: Any, data: bytes) -> list[np.ndarray]:
     return arrays
 
 
-def _result(r: Any, arrays: list[np.ndarray]) -> Any:
+def _result(r: Any, arrays: list[np.ndarray], used: set[int]) -> Any:
+    """One contact result of the header; the arrays its warm state takes are added to
+    ``used`` (each at most once)."""
     if r is None:
-        _expect(not arrays, "the state has arrays but no result")
         return None
     keys = {"method", "converged", "iterations", "warm_state", *_RESULT_FLOATS}
     _expect(isinstance(r, dict) and set(r) == keys, f"the state's result must have the fields "
@@ -206,7 +226,7 @@ def _result(r: Any, arrays: list[np.ndarray]) -> Any:
     _expect(type(r["converged"]) is bool and type(r["iterations"]) is int
             and r["iterations"] >= 0, "the state's result has an invalid converged/iterations")
     floats = {k: _finite(r[k], f"result {k}") for k in _RESULT_FLOATS}
-    warm, used = r["warm_state"], set()
+    warm = r["warm_state"]
     if warm is not None:
         _expect(isinstance(warm, dict), "the state's warm state is not a mapping")
         warm = dict(warm)
@@ -222,7 +242,6 @@ def _result(r: Any, arrays: list[np.ndarray]) -> Any:
                         f"warm state {key!r}={value!r} is not a number or a string")
                 if type(value) in (int, float):
                     _finite(value, f"warm state {key!r}")
-    _expect(len(used) == len(arrays), "the state has arrays its result does not use")
     try:
         warm = methods[r["method"]].warm_state_from_record(warm)
     except ValueError as e:

@@ -11,6 +11,9 @@
  *
  * What differs from pythonfmu 0.7 (FMI 2.0 sec. 2.1.3 on statuses):
  *  - a call during which the slave logged a warning returns fmi2Warning (FMI 2.0 sec. 2.1.3);
+ *  - a host's mistake (a String value that is NULL or not UTF-8, a buffer for the serialized
+ *    state of another size, the GUID or resource folder of another FMU) is fmi2Error with a
+ *    message saying so;
  *  - a Python exception is fmi2Error (the instance failed), never fmi2Fatal (which the standard
  *    keeps for corrupted state of all instances); an exception may carry an int attribute
  *    ``fmi_status`` (1 warning, 2 discard, 3 error) to choose the status, and its text is logged
@@ -33,7 +36,18 @@
  *    finds that environment's packages;
  *  - the optional slave method _check_fmu_state(state) validates a deserialized state;
  *  - fmi2GetRealStatus(fmi2LastSuccessfulTime) returns the slave's last_successful_time(), so
- *    that the time is part of the slave's FMU state and fmi2SetFMUstate restores it.
+ *    that the time is part of the slave's FMU state and fmi2SetFMUstate restores it;
+ *  - fmi2GetDirectionalDerivative calls the slave's optional method
+ *    get_directional_derivative(unknowns, knowns, seed) (value references, value references,
+ *    floats; it returns one float per unknown), and is unsupported (fmi2Error) without it;
+ *  - a slave may keep its Real values in a buffer of doubles indexed by value reference,
+ *    _fmi_reals, with a byte of flags per value reference in _fmi_flags (1: a Real variable,
+ *    2: an output, 4: settable now) and one more byte, non-zero while the outputs are those of
+ *    the inputs. fmi2SetReal of values that are all settable then writes the buffer and clears
+ *    that byte, and fmi2GetReal of Real values none of which is an output out of date reads it,
+ *    without calling Python (nor taking the interpreter's lock: the memory is the instance's,
+ *    held by the buffer views for its lifetime, and FMI 2.0 forbids concurrent calls on one
+ *    instance); any other call goes to the slave's methods as usual.
  *
  * The global interpreter lock is taken around every call (PyGILState_Ensure), so hosts may call
  * from any thread. Thread safety across instances follows from the lock.
@@ -55,13 +69,17 @@
 #endif
 
 /* Key in sys.modules of the helper module below (versioned: another build may define its own). */
-#define LOADER_MODULE "_fmi2_python_loader_4"
+#define LOADER_MODULE "_fmi2_python_loader_5"
 
 static const char LOADER_SOURCE[] =
     "import importlib.util, sys, threading, traceback\n"
     "from pathlib import Path\n"
     "\n"
     "ADDED = []\n"
+    "\n"
+    "class LoadError(Exception):\n"
+    "    fmi_status = 3  # the host's arguments: said as they are, no traceback\n"
+    "\n"
     "# one load at a time: a module executing in one thread (the GIL is released while it\n"
     "# imports) is in sys.modules half made, and another thread must not take it\n"
     "LOCK = threading.Lock()\n"
@@ -77,7 +95,10 @@ static const char LOADER_SOURCE[] =
     "        import xml.etree.ElementTree as ET\n"
     "        own = ET.parse(md).getroot().get('guid')\n"
     "        if own != guid:\n"
-    "            raise ValueError(f'fmuGUID {guid} is not the GUID of this FMU, {own}')\n"
+    "            raise LoadError(f'fmuGUID {guid} is not the GUID of this FMU, {own}')\n"
+    "    if not (folder / 'slavemodule.txt').is_file():\n"
+    "        raise LoadError(f'fmuResourceLocation {resources!r} is not the resources '\n"
+    "                        'folder of this FMU (it has no slavemodule.txt)')\n"
     "    # resources/ folders this loader added that hosts have since deleted leave sys.path\n"
     "    for p in [p for p in ADDED if not Path(p).is_dir()]:\n"
     "        ADDED.remove(p)\n"
@@ -122,7 +143,12 @@ typedef struct {
     PyObject *kwargs;  /* its constructor arguments (again at fmi2Reset) */
     PyObject *slave;   /* the instance */
     PyObject *strings; /* list of bytes: what the last fmi2GetString returned points into */
+    int fast;          /* the slave's buffers below are held (values set and read directly) */
+    Py_buffer reals;   /* _fmi_reals: doubles by value reference */
+    Py_buffer flags;   /* _fmi_flags: FAST_* per value reference, then the outputs' freshness */
 } Instance;
+
+enum { FAST_REAL = 1, FAST_OUTPUT = 2, FAST_SETTABLE = 4 };
 
 /* ------------------------------------------------------------------------------------------ */
 /* Logging                                                                                     */
@@ -355,10 +381,78 @@ static char *uri_to_path(const char *uri) {
     return out;
 }
 
+/* Release the slave's buffers (GIL held). */
+static void unbind_fast(Instance *in) {
+    if (!in->fast) return;
+    in->fast = 0;
+    PyBuffer_Release(&in->flags);
+    PyBuffer_Release(&in->reals);
+}
+
+/* Hold the slave's _fmi_reals and _fmi_flags buffers if it has them in the expected form (GIL
+   held); otherwise values go through its methods. */
+static void bind_fast(Instance *in) {
+    unbind_fast(in);
+    PyObject *reals = PyObject_GetAttrString(in->slave, "_fmi_reals");
+    PyObject *flags = reals ? PyObject_GetAttrString(in->slave, "_fmi_flags") : NULL;
+    if (flags != NULL &&
+        PyObject_GetBuffer(reals, &in->reals, PyBUF_WRITABLE | PyBUF_FORMAT | PyBUF_ND) == 0) {
+        if (PyObject_GetBuffer(flags, &in->flags, PyBUF_WRITABLE) == 0) {
+            int ok = in->reals.ndim == 1 && in->reals.itemsize == (Py_ssize_t)sizeof(double) &&
+                     in->reals.format != NULL && strcmp(in->reals.format, "d") == 0 &&
+                     PyBuffer_IsContiguous(&in->reals, 'C') && in->flags.len >= 1 &&
+                     in->reals.len / (Py_ssize_t)sizeof(double) >= in->flags.len - 1;
+            if (ok) {
+                in->fast = 1;
+            } else {
+                PyBuffer_Release(&in->flags);
+                PyBuffer_Release(&in->reals);
+            }
+        } else {
+            PyBuffer_Release(&in->reals);
+        }
+    }
+    PyErr_Clear();
+    Py_XDECREF(reals);
+    Py_XDECREF(flags);
+}
+
+/* fmi2SetReal without Python: 1 if done (every value settable now, at least one: whether no
+   value may be set, the state decides), else 0. */
+static int fast_set(Instance *in, const fmi2ValueReference vr[], size_t nvr,
+                    const fmi2Real value[]) {
+    if (!in->fast || nvr == 0 || vr == NULL || value == NULL) return 0;
+    unsigned char *flags = in->flags.buf;
+    size_t n = (size_t)in->flags.len - 1;
+    for (size_t i = 0; i < nvr; i++)
+        if (vr[i] >= n || !(flags[vr[i]] & FAST_SETTABLE)) return 0;
+    double *reals = in->reals.buf;
+    for (size_t i = 0; i < nvr; i++) reals[vr[i]] = value[i];
+    flags[n] = 0; /* the outputs are no longer those of the inputs */
+    return 1;
+}
+
+/* fmi2GetReal without Python: 1 if done (Real values, no output out of date), else 0. */
+static int fast_get(Instance *in, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
+    if (!in->fast || (nvr > 0 && (vr == NULL || value == NULL))) return 0;
+    const unsigned char *flags = in->flags.buf;
+    size_t n = (size_t)in->flags.len - 1;
+    int fresh = flags[n] != 0;
+    for (size_t i = 0; i < nvr; i++) {
+        if (vr[i] >= n) return 0;
+        unsigned char f = flags[vr[i]];
+        if (!(f & FAST_REAL) || ((f & FAST_OUTPUT) && !fresh)) return 0;
+    }
+    const double *reals = in->reals.buf;
+    for (size_t i = 0; i < nvr; i++) value[i] = reals[vr[i]];
+    return 1;
+}
+
 static void free_instance(Instance *in) {
     if (in == NULL) return;
     if (Py_IsInitialized() && (in->slave || in->cls || in->kwargs || in->strings)) {
         PyGILState_STATE g = PyGILState_Ensure();
+        unbind_fast(in);
         Py_CLEAR(in->slave);
         Py_CLEAR(in->cls);
         Py_CLEAR(in->kwargs);
@@ -375,7 +469,9 @@ static fmi2Status make_slave(Instance *in, const char *where) {
     PyObject *slave = args ? PyObject_Call(in->cls, args, in->kwargs) : NULL;
     Py_XDECREF(args);
     if (slave == NULL) return report_exception(in, where);
+    unbind_fast(in);
     Py_XSETREF(in->slave, slave);
+    bind_fast(in);
     return drain_log(in);
 }
 
@@ -569,10 +665,19 @@ static fmi2Status set_values(fmi2Component c, const fmi2ValueReference vr[], siz
         case BOOLEAN: v = PyBool_FromLong(((const fmi2Boolean *)values)[i] != fmi2False); break;
         case STRING: {
             const char *t = ((const fmi2String *)values)[i];
-            if (t == NULL)
-                PyErr_SetString(PyExc_ValueError, "a String value is NULL");
-            else
-                v = PyUnicode_DecodeUTF8(t, (Py_ssize_t)strlen(t), "strict");
+            if (t != NULL) v = PyUnicode_DecodeUTF8(t, (Py_ssize_t)strlen(t), "strict");
+            if (v == NULL) { /* the host's mistake: say which value, change nothing */
+                char buf[256];
+                PyErr_Clear();
+                snprintf(buf, sizeof buf, "%s: the value of valueReference %u is %s: allowed "
+                         "UTF-8 text; nothing was set", where, vr[i],
+                         t == NULL ? "NULL" : "not UTF-8");
+                Py_XDECREF(vrs);
+                Py_XDECREF(list);
+                log_text(in, fmi2Error, NULL, buf);
+                PyGILState_Release(g);
+                return fmi2Error;
+            }
             break;
         }
         }
@@ -592,6 +697,7 @@ static fmi2Status set_values(fmi2Component c, const fmi2ValueReference vr[], siz
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                        fmi2Real value[]) {
+    if (c != NULL && fast_get(c, vr, nvr, value)) return fmi2OK;
     return get_values(c, vr, nvr, value, REAL, "fmi2GetReal");
 }
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
@@ -608,6 +714,7 @@ fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 }
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                        const fmi2Real value[]) {
+    if (c != NULL && fast_set(c, vr, nvr, value)) return fmi2OK;
     return set_values(c, vr, nvr, value, REAL, "fmi2SetReal");
 }
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
@@ -693,11 +800,16 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte s
     if (bad_call(in, "fmi2SerializeFMUstate", state, serializedState, 1)) return fmi2Error;
     PyGILState_STATE g = PyGILState_Ensure();
     PyObject *b = state_bytes(in, state);
-    if (b && (size_t)PyBytes_GET_SIZE(b) != size) {
-        Py_ssize_t n = PyBytes_GET_SIZE(b);
-        Py_CLEAR(b);
-        PyErr_Format(PyExc_ValueError, "the serialized state has %zd bytes, the host gave %zu",
-                     n, size);
+    if (b && (size_t)PyBytes_GET_SIZE(b) != size) { /* the host's mistake: say so */
+        char buf[256];
+        snprintf(buf, sizeof buf, "fmi2SerializeFMUstate: the serialized state has %zd bytes, "
+                 "the host gave %zu (fmi2SerializedFMUstateSize tells)", PyBytes_GET_SIZE(b),
+                 size);
+        Py_DECREF(b);
+        drain_log(in);
+        log_text(in, fmi2Error, NULL, buf);
+        PyGILState_Release(g);
+        return fmi2Error;
     }
     if (b) memcpy(serializedState, PyBytes_AS_STRING(b), size);
     fmi2Status s = finish(in, b, "fmi2SerializeFMUstate");
@@ -764,12 +876,50 @@ static fmi2Status unsupported(fmi2Component c, const char *what) {
 
 fmi2Status fmi2CancelStep(fmi2Component c) { return unsupported(c, "fmi2CancelStep"); }
 
+/* The slave's get_directional_derivative(unknowns, knowns, seed) (FMI 2.0 sec. 2.1.9). */
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown[],
                                         size_t nUnknown, const fmi2ValueReference vKnown[],
                                         size_t nKnown, const fmi2Real dvKnown[],
                                         fmi2Real dvUnknown[]) {
-    (void)vUnknown, (void)nUnknown, (void)vKnown, (void)nKnown, (void)dvKnown, (void)dvUnknown;
-    return unsupported(c, "fmi2GetDirectionalDerivative");
+    const char *where = "fmi2GetDirectionalDerivative";
+    Instance *in = c;
+    if (bad_call(in, where, vUnknown, dvUnknown, nUnknown) ||
+        bad_call(in, where, vKnown, dvKnown, nKnown))
+        return fmi2Error;
+    PyGILState_STATE g = PyGILState_Ensure();
+    if (!PyObject_HasAttrString(in->slave, "get_directional_derivative")) {
+        PyGILState_Release(g);
+        return unsupported(c, where);
+    }
+    PyObject *unknowns = index_list(vUnknown, nUnknown);
+    PyObject *knowns = unknowns ? index_list(vKnown, nKnown) : NULL;
+    PyObject *seed = knowns ? PyList_New((Py_ssize_t)nKnown) : NULL;
+    for (size_t i = 0; seed && i < nKnown; i++) {
+        PyObject *v = PyFloat_FromDouble(dvKnown[i]);
+        if (v == NULL) {
+            Py_CLEAR(seed);
+            break;
+        }
+        PyList_SET_ITEM(seed, (Py_ssize_t)i, v);
+    }
+    PyObject *r = seed ? CALL(in, "get_directional_derivative", "(OOO)", unknowns, knowns, seed)
+                       : NULL;
+    Py_XDECREF(unknowns);
+    Py_XDECREF(knowns);
+    Py_XDECREF(seed);
+    if (r != NULL && (!PyList_Check(r) || PyList_GET_SIZE(r) != (Py_ssize_t)nUnknown)) {
+        Py_CLEAR(r);
+        PyErr_Format(PyExc_TypeError, "get_directional_derivative returned no list of %zu "
+                     "values", nUnknown);
+    }
+    for (size_t i = 0; r != NULL && i < nUnknown; i++) {
+        double d = PyFloat_AsDouble(PyList_GET_ITEM(r, (Py_ssize_t)i));
+        if (d == -1.0 && PyErr_Occurred()) Py_CLEAR(r);
+        else dvUnknown[i] = d;
+    }
+    fmi2Status s = finish(in, r, where);
+    PyGILState_Release(g);
+    return s;
 }
 
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
@@ -790,17 +940,24 @@ fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *va
     return c ? fmi2Discard : fmi2Error;
 }
 
-/* fmi2LastSuccessfulTime is the slave's (method last_successful_time): an FMU state holds it. */
+/* fmi2LastSuccessfulTime is the slave's (method last_successful_time): an FMU state holds it.
+   The slave refuses the call outside the states FMI 2.0 sec. 4.2.4 allows it in, whatever the
+   kind; another kind is then fmi2Discard ("not able to return the status", sec. 2.1.3). */
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
     Instance *in = c;
     if (bad_call(in, "fmi2GetRealStatus", value, value, 1)) return fmi2Error;
-    if (s != fmi2LastSuccessfulTime) return fmi2Discard;
     PyGILState_STATE g = PyGILState_Ensure();
     PyObject *r = CALL(in, "last_successful_time", NULL);
     double t = r ? PyFloat_AsDouble(r) : -1.0;
     if (r != NULL && t == -1.0 && PyErr_Occurred()) Py_CLEAR(r);
     fmi2Status status = finish(in, r, "fmi2GetRealStatus");
-    if (status <= fmi2Warning) *value = t;
+    if (status <= fmi2Warning && s != fmi2LastSuccessfulTime) {
+        log_text(in, fmi2Discard, NULL, "fmi2GetRealStatus: only fmi2LastSuccessfulTime is "
+                                        "available (steps are synchronous)");
+        status = fmi2Discard;
+    } else if (status <= fmi2Warning) {
+        *value = t;
+    }
     PyGILState_Release(g);
     return status;
 }
