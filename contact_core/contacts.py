@@ -35,9 +35,8 @@ import numpy as np
 
 from .api import METHODS
 from .hertz import max_pressure, patch_kernel
-from .variables import geometry_names
 from .wheel_rail import (VaryingGeometryConfig, VaryingGeometryEvaluator, WheelRailConfig,
-                         WheelRailEvaluator, _semi_axes_patch)
+                         WheelRailEvaluator, _semi_axes_patch, contact_inputs)
 
 #: The outputs of a contact, in the order of the index's columns after the inputs:
 #: forces (N) and moment (N·m), the patch (m, m, Pa), the slip fraction and the code of the
@@ -72,18 +71,6 @@ def evaluator_for(config: Config) -> Evaluator:
     if isinstance(config, VaryingGeometryConfig):
         return VaryingGeometryEvaluator(config)
     return WheelRailEvaluator(config)
-
-
-def contact_inputs(config: Config) -> tuple[str, ...]:
-    """The inputs of one contact of ``config``, in the order of the evaluator's arguments:
-    ξ, η, φ, N, μ, the geometry inputs with ``varying_geometry`` (A, B or a, b), and the
-    rolling speed V with ``falling_friction``."""
-    names = ("xi", "eta", "phi", "N", "mu")
-    if isinstance(config, VaryingGeometryConfig):
-        names += geometry_names(config.geometry_input)
-    if config.effects.falling_friction:
-        names += ("V",)
-    return names
 
 
 class Contacts:
@@ -147,13 +134,7 @@ class Contacts:
                 if solved[i]:
                     continue
                 saved.append((ev, ev.last))
-                try:
-                    r = ev.evaluate(*[values[j] for j in self._in_rows[i]])
-                except ValueError as e:
-                    raise ContactInputError(i, e) from None
-                except Exception as e:  # a method's failure
-                    raise ContactFailure(i, e) from e
-                done.append((i, r))
+                done.append((i, self._evaluate(i)))
         except Exception:
             for ev, last in saved:
                 ev.last = last
@@ -165,32 +146,33 @@ class Contacts:
                         values[j] = v
             self._forget_warm()
         for i, r in done:
-            ev = self.evaluators[i]
-            o = self._out_rows[i]
-            values[o[0]] = r.Fx
-            values[o[1]] = r.Fy
-            values[o[2]] = r.Mz
-            values[o[3]] = ev.a
-            values[o[4]] = ev.b
-            values[o[5]] = ev.p0
-            values[o[6]] = r.slip_fraction
-            values[o[7]] = ev.method_code
-            if ev.last is not None:
+            self._write(i, r)
+            if self.evaluators[i].last is not None:
                 self._warm.add(i)
         return done
 
     def _evaluate_one(self) -> list[tuple[int, Any]]:
         """:meth:`evaluate` of a single contact without the kernel (the evaluator keeps its
         warm start when it refuses or fails)."""
-        ev = self.evaluators[0]
-        values = self._values
+        r = self._evaluate(0)
+        self._write(0, r)
+        return [(0, r)]
+
+    def _evaluate(self, i: int) -> Any:
+        """Contact ``i``'s evaluator at its inputs, its refusal raised as
+        :class:`ContactInputError`, a method's failure as :class:`ContactFailure`."""
         try:
-            r = ev.evaluate(*[values[j] for j in self._in_rows[0]])
+            return self.evaluators[i].evaluate(*self.input_values(i))
         except ValueError as e:
-            raise ContactInputError(0, e) from None
+            raise ContactInputError(i, e) from None
         except Exception as e:  # a method's failure
-            raise ContactFailure(0, e) from e
-        o = self._out_rows[0]
+            raise ContactFailure(i, e) from e
+
+    def _write(self, i: int, r: Any) -> None:
+        """Contact ``i``'s outputs (:data:`OUTPUTS`) of its evaluator's result ``r``."""
+        ev = self.evaluators[i]
+        values = self._values
+        o = self._out_rows[i]
         values[o[0]] = r.Fx
         values[o[1]] = r.Fy
         values[o[2]] = r.Mz
@@ -199,7 +181,6 @@ class Contacts:
         values[o[5]] = ev.p0
         values[o[6]] = r.slip_fraction
         values[o[7]] = ev.method_code
-        return [(0, r)]
 
     def _forget_warm(self) -> None:
         """The contacts the kernel solved this time hold no warm start (module docstring)."""

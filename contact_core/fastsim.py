@@ -196,8 +196,8 @@ series of CONTACT's ``tractcurv`` example (tests, examples/tractcurv_friction.py
 ``fields=True`` returns a :class:`FastsimFields` in ``ContactResult.fields``. ``slip_fraction`` is
 the slipping area over the contact area (of the discrete grid).
 
-Speed: the march is numba kernels (``cache=True``), compiled or loaded from numba's cache on first
-use (``numba`` is imported lazily, so importing ``contact_core`` does not pay for it). It takes
+Speed: the march is numba kernels (``cache=True``), compiled, or loaded from numba's on-disk
+cache, at the first call (not when ``contact_core`` is imported). It takes
 one element of every strip per step, the strips being independent, so that each step is a loop
 over the strips the compiler vectorises, with the slip law's projection in it (above); its cost
 against a plain kernel is measured by ``python -m contact_tools.bench_fastsim``
@@ -605,7 +605,7 @@ _KERNELS: tuple[Callable, Callable] | None = None
 
 
 def _kernels() -> tuple[Callable, Callable]:
-    """The numba-compiled :func:`_march` and :func:`_flexibilities` (imports numba on first use;
+    """The numba-compiled :func:`_march` and :func:`_flexibilities` (compiled at the first call;
     cached on disk). The march's per-element helpers are inlined into its loops: the compiler
     vectorises a loop only without calls."""
     global _KERNELS

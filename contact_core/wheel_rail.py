@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping
 
 import numpy as np
 from numba.extending import register_jitable
@@ -69,8 +69,22 @@ _INF = math.inf
 _THIRD = 1.0 / 3.0
 
 
+class _Config:
+    """What both configurations share: the options kept as sorted (name, value) pairs (hashable
+    and order-independent), the effects as :class:`Effects`, the check of the method."""
+
+    def __post_init__(self) -> None:
+        items = self.options.items() if isinstance(self.options, Mapping) else self.options
+        object.__setattr__(self, "options", tuple(sorted(items)))
+        object.__setattr__(self, "effects", as_effects(self.effects))
+
+    def _check_method(self) -> None:
+        if self.method not in METHODS:
+            raise ValueError(f"method={self.method!r} is unknown: allowed {list(METHODS)}")
+
+
 @dataclass(frozen=True)
-class WheelRailConfig:
+class WheelRailConfig(_Config):
     """Fixed data of one wheel–rail contact (SI units).
 
     Attributes
@@ -110,16 +124,9 @@ class WheelRailConfig:
     options: Mapping[str, Any] | tuple[tuple[str, Any], ...] = ()
     friction: FrictionLaw | None = None
 
-    def __post_init__(self) -> None:
-        # Hashable and order-independent: options are kept as sorted (name, value) pairs.
-        items = self.options.items() if isinstance(self.options, Mapping) else self.options
-        object.__setattr__(self, "options", tuple(sorted(items)))
-        object.__setattr__(self, "effects", as_effects(self.effects))
-
     def check(self) -> None:
         """Raise ``ValueError`` naming the first invalid parameter and its allowed range."""
-        if self.method not in METHODS:
-            raise ValueError(f"method={self.method!r} is unknown: allowed {list(METHODS)}")
+        self._check_method()
         if self.effects.varying_geometry:
             raise ValueError("effects: 'varying_geometry' takes the geometry at every step, "
                              "WheelRailConfig's radii are fixed: use VaryingGeometryConfig")
@@ -142,7 +149,128 @@ class WheelRailConfig:
                                      radius(self.R_rail_profile))
 
 
-class WheelRailEvaluator:
+class _Evaluator:
+    """What both evaluators share (module docstring): the method object made once, the
+    material, ``inputs`` (the names of the arguments, :func:`contact_inputs`), the warm start
+    ``last``, a loaded step's bookkeeping, the lifted wheel, the frame of the Jacobian and the
+    check of outputs from outside."""
+
+    def __init__(self, config: WheelRailConfig | VaryingGeometryConfig) -> None:
+        self.config = config
+        self.solver = make_solver(config.method, config.effects, config.friction,
+                                  **dict(config.options))
+        self.G = shear_modulus(config.E, config.nu)
+        self.nu = config.nu
+        self.mu = config.mu
+        self.inputs = contact_inputs(config)
+        self.method_code = self._code = METHODS[config.method].code
+        self._name = self.solver.name
+        self._codes = {name: cls.code for name, cls in METHODS.items()}
+        self._lifted = make_result(0.0, 0.0, 0.0, config.method, 0.0)
+        self.a = self.b = self.p0 = 0.0
+        self.last: ContactResult | None = None
+
+    @staticmethod
+    def _no_speed(V: float) -> None:
+        """A rolling speed given without the effect 'falling_friction': only 0 is allowed, and
+        is then unused (None)."""
+        if V:
+            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
+                             "selected: allowed None or 0, or select the effect")
+
+    def _step(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
+              p0: float, V: float | None) -> ContactResult:
+        """The method's step on the patch ``a``, ``b`` (peak pressure ``p0``), kept as the warm
+        start, with the patch and the code of the method that gave it."""
+        result = (self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last)
+                  if V is None else
+                  self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last, V))
+        if not math.isfinite(result.Fx + result.Fy + result.Mz):  # a method's bug, never ours
+            raise FloatingPointError(
+                f"method {result.method!r} returned non-finite forces (Fx={result.Fx!r}, "
+                f"Fy={result.Fy!r}, Mz={result.Mz!r}) for xi={xi!r}, eta={eta!r}, "
+                f"phi={phi!r}, N={N!r}, mu={mu!r}, a={a!r}, b={b!r}")
+        self.last = result
+        self.a = a
+        self.b = b
+        self.p0 = p0
+        self.method_code = (self._code if result.method is self._name
+                            else self._codes[result.method])
+        return result
+
+    def _lift(self) -> ContactResult:
+        """The step of a lifted wheel (its inputs checked): no patch, the configured method."""
+        self.a = self.b = self.p0 = 0.0
+        self.method_code = self._code
+        return self._lifted
+
+    def _check_lifted(self, N: float, xi: float, eta: float, phi: float, mu: float,
+                      V: float | None, geometry: Iterable[tuple[str, float]] = ()) -> None:
+        """The checks of an unloaded step's inputs (``ValueError`` naming one): ``N`` a lifted
+        wheel's (-inf < N <= 0), the others finite, the geometry's (name, value) pairs any
+        finite value."""
+        if not -_INF < N <= 0.0:
+            raise out_of_range("N", N)
+        check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
+        if V is not None:
+            _speed(V)
+        for name, v in geometry:
+            if not math.isfinite(v):
+                raise ValueError(f"{name}={v!r} is out of range: allowed a finite number "
+                                 "(any finite value while the wheel is lifted, N <= 0)")
+
+    def _zero_jacobian(self, outputs: tuple[str, ...]) -> Jacobian:
+        """The Jacobian of a lifted wheel."""
+        return Jacobian(outputs, self.inputs, np.zeros((len(outputs), len(self.inputs))), "zero")
+
+    def _chain(self, outputs: tuple[str, ...], patch: np.ndarray, xi: float, eta: float,
+               phi: float, N: float, mu: float, a: float, b: float, V: float | None) -> Jacobian:
+        """The Jacobian of ``outputs`` from the method's (by ξ, η, φ, N, μ, a, b[, V], from
+        the warm start) at the patch ``a``, ``b`` and the patch's derivatives ``patch`` (rows
+        a, b, p0 by :attr:`inputs`): ∂F/∂x = ∂F/∂x|_(a, b) + ∂F/∂a ∂a/∂x + ∂F/∂b ∂b/∂x."""
+        core = self.solver.jacobian(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last, V)
+        m = core.matrix                     # rows Fx, Fy, Mz, slip fraction
+        ia, ib = core.inputs.index("a"), core.inputs.index("b")
+        law = np.outer(m[:, ia], patch[0]) + np.outer(m[:, ib], patch[1])
+        for j, name in enumerate(self.inputs):
+            if name in core.inputs and name not in ("a", "b"):   # a, b: the caller's semi-axes
+                law[:, j] += m[:, core.inputs.index(name)]
+        rows = {"Fx": law[0], "Fy": law[1], "Mz": law[2], "slip_fraction": law[3],
+                "a": patch[0], "b": patch[1], "p0": patch[2]}
+        return Jacobian(outputs, self.inputs, np.array([rows[o] for o in outputs]),
+                        f"{core.how}; the patch's analytic", core.steps)
+
+    def _check_outputs(self, what: str, patch: tuple[float, float, float],
+                       want: tuple[float, float, float], N: float, mu: float, Fx: float,
+                       Fy: float, slip_fraction: float) -> None:
+        """``check_outputs`` once the patch the outputs must have is known (``want``, of the
+        inputs ``what``): the patch (a, b, p0), ``slip_fraction`` in [0, 1], zero forces when
+        lifted, and |(Fx, Fy)| <= μN for a saturating method (Coulomb's law, Kalker 1979 eq 5,
+        which every method's step keeps)."""
+        for name, value, expected in zip(("a", "b", "p0"), patch, want):
+            if not math.isclose(value, expected, rel_tol=1e-12):
+                raise ValueError(f"{name}={value!r} is not the Hertz patch of {what}: allowed "
+                                 f"{name}={expected!r}")
+        if not 0.0 <= slip_fraction <= 1.0:
+            raise ValueError(f"slip_fraction={slip_fraction!r} is out of range: allowed "
+                             "0 <= slip_fraction <= 1")
+        force = math.hypot(Fx, Fy)
+        if N <= 0.0:
+            if force != 0.0:
+                raise ValueError(f"Fx={Fx!r}, Fy={Fy!r} with N={N!r}: allowed zero forces for "
+                                 "a lifted wheel (N <= 0)")
+        elif self.config.effects.saturation and self.solver.saturates and not force <= mu * N:
+            raise ValueError(f"Fx={Fx!r}, Fy={Fy!r}: |(Fx, Fy)| = {force!r} N is out of range: "
+                             f"allowed at most mu*N = {mu * N!r} N (mu={mu!r}, N={N!r})")
+
+
+#: The outputs of an evaluator's Jacobian: forces, moment, the patch, the slip fraction.
+EVALUATOR_OUTPUTS = ("Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction")
+#: ... with the caller's semi-axes as inputs (``geometry_input="semi_axes"``).
+SEMI_AXES_OUTPUTS = ("Fx", "Fy", "Mz", "p0", "slip_fraction")
+
+
+class WheelRailEvaluator(_Evaluator):
     """Evaluate one contact per simulation step; see the module docstring.
 
     Attributes after :meth:`evaluate`: ``a``, ``b``, ``p0`` (the step's Hertz semi-axes, m, and
@@ -153,25 +281,14 @@ class WheelRailEvaluator:
 
     def __init__(self, config: WheelRailConfig) -> None:
         config.check()
-        self.config = config
         A, B = config.curvatures()
         try:
             self.geometry = hertz_geometry(A, B, config.E, config.nu)
         except ValueError as e:  # the curvature ratio: name the radii it comes from
             raise ValueError(f"R_wheel, R_wheel_profile, R_rail_profile: {e} (the relative "
                              f"curvatures A={A!r}, B={B!r} 1/m)") from None
-        self.solver = make_solver(config.method, config.effects, config.friction,
-                                  **dict(config.options))
-        self.G = shear_modulus(config.E, config.nu)
-        self.nu = config.nu
-        self.mu = config.mu
-        self.method_code = self._code = METHODS[config.method].code
-        self._name = self.solver.name
-        self._codes = {name: cls.code for name, cls in METHODS.items()}
+        super().__init__(config)
         self._ka, self._kb = self.geometry.ka, self.geometry.kb
-        self._lifted = make_result(0.0, 0.0, 0.0, config.method, 0.0)
-        self.a = self.b = self.p0 = 0.0
-        self.last: ContactResult | None = None
 
     def evaluate(self, xi: float, eta: float, phi: float, N: float,
                  mu: float | None = None, V: float | None = None) -> ContactResult:
@@ -185,43 +302,15 @@ class WheelRailEvaluator:
         if mu is None:
             mu = self.mu
         if V is not None and self.solver.friction is None:
-            if V:
-                raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
-                                 "selected: allowed None or 0, or select the effect")
-            V = None
+            V = self._no_speed(V)
         if 0.0 < N < _INF:
             # HertzGeometry.patch(N) without building a HertzPatch per step (same arithmetic).
             s = N ** _THIRD
             a = self._ka * s
             b = self._kb * s
-            result = (self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last)
-                      if V is None else
-                      self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last, V))
-            if not math.isfinite(result.Fx + result.Fy + result.Mz):  # a method's bug, never ours
-                raise FloatingPointError(
-                    f"method {result.method!r} returned non-finite forces (Fx={result.Fx!r}, "
-                    f"Fy={result.Fy!r}, Mz={result.Mz!r}) for xi={xi!r}, eta={eta!r}, phi={phi!r}, "
-                    f"N={N!r}, mu={mu!r}")
-            self.last = result
-            self.a = a
-            self.b = b
-            self.p0 = max_pressure(N, a, b)
-            self.method_code = (self._code if result.method is self._name
-                                else self._codes[result.method])
-            return result
-        if -_INF < N <= 0.0:
-            self._check_lifted(xi, eta, phi, mu, V)
-            self.a = self.b = self.p0 = 0.0
-            self.method_code = self._code
-            return self._lifted
-        raise out_of_range("N", N)
-
-    def _check_lifted(self, xi: float, eta: float, phi: float, mu: float,
-                      V: float | None) -> None:
-        """The checks of a lifted wheel's inputs (finite; ``ValueError`` naming one)."""
-        check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
-        if V is not None:
-            _speed(V)
+            return self._step(xi, eta, phi, N, mu, a, b, max_pressure(N, a, b), V)
+        self._check_lifted(N, xi, eta, phi, mu, V)
+        return self._lift()
 
     def jacobian(self, xi: float, eta: float, phi: float, N: float, mu: float | None = None,
                  V: float | None = None) -> Jacobian:
@@ -233,24 +322,17 @@ class WheelRailEvaluator:
         p0 = 3N/(2πab) ∝ N^{1/3} (Kalker 1979 sec. 2, eq 3). Lifted (N <= 0): zero."""
         if mu is None:
             mu = self.mu
-        if V is not None and self.solver.friction is None and V:
-            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
-                             "selected: allowed None or 0, or select the effect")
-        names = ("xi", "eta", "phi", "N", "mu") + (("V",) if self.solver.friction else ())
-        outputs = EVALUATOR_OUTPUTS
+        if V is not None and self.solver.friction is None:
+            V = self._no_speed(V)
         if not 0.0 < N < _INF:
-            if not -_INF < N <= 0.0:
-                raise out_of_range("N", N)
-            self._check_lifted(xi, eta, phi, mu, V)
-            return Jacobian(outputs, names, np.zeros((len(outputs), len(names))), "zero")
+            self._check_lifted(N, xi, eta, phi, mu, V)
+            return self._zero_jacobian(EVALUATOR_OUTPUTS)
         s = N ** _THIRD
         a, b = self._ka * s, self._kb * s
         p0 = max_pressure(N, a, b)
-        patch = np.zeros((3, len(names)))
+        patch = np.zeros((3, len(self.inputs)))
         patch[:, 3] = (a / (3.0 * N), b / (3.0 * N), p0 / (3.0 * N))
-        core = self.solver.jacobian(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last,
-                                    V if self.solver.friction else None)
-        return _chain(core, patch, names, outputs)
+        return self._chain(EVALUATOR_OUTPUTS, patch, xi, eta, phi, N, mu, a, b, V)
 
     def check_outputs(self, N: float, mu: float, Fx: float, Fy: float, a: float, b: float,
                       p0: float, slip_fraction: float) -> None:
@@ -266,55 +348,9 @@ class WheelRailEvaluator:
         """
         if not (-_INF < N < _INF):
             raise out_of_range("N", N)
-        patch = self.geometry.patch(N) if N > 0.0 else LIFTED_PATCH
-        for name, value, expected in (("a", a, patch.a), ("b", b, patch.b),
-                                      ("p0", p0, patch.p0)):
-            if not math.isclose(value, expected, rel_tol=1e-12):
-                raise ValueError(f"{name}={value!r} is not the Hertz patch of N={N!r}: "
-                                 f"allowed {name}={expected!r}")
-        _check_law(self.config.effects.saturation and self.solver.saturates, N, mu, Fx, Fy,
-                   slip_fraction)
-
-
-#: The outputs of an evaluator's Jacobian: forces, moment, the patch, the slip fraction.
-EVALUATOR_OUTPUTS = ("Fx", "Fy", "Mz", "a", "b", "p0", "slip_fraction")
-#: ... with the caller's semi-axes as inputs (``geometry_input="semi_axes"``).
-SEMI_AXES_OUTPUTS = ("Fx", "Fy", "Mz", "p0", "slip_fraction")
-
-
-def _chain(core: Jacobian, patch: np.ndarray, names: tuple[str, ...],
-           outputs: tuple[str, ...]) -> Jacobian:
-    """An evaluator's Jacobian from the method's ``core`` (by ξ, η, φ, N, μ, a, b[, V]) and
-    the patch's derivatives ``patch`` (rows a, b, p0 by the evaluator's inputs ``names``):
-    ∂F/∂x = ∂F/∂x|_(a, b) + ∂F/∂a ∂a/∂x + ∂F/∂b ∂b/∂x."""
-    m = core.matrix                     # rows Fx, Fy, Mz, slip fraction
-    ia, ib = core.inputs.index("a"), core.inputs.index("b")
-    law = np.outer(m[:, ia], patch[0]) + np.outer(m[:, ib], patch[1])
-    for j, name in enumerate(names):
-        if name in core.inputs and name not in ("a", "b"):   # a, b: the caller's semi-axes
-            law[:, j] += m[:, core.inputs.index(name)]
-    rows = {"Fx": law[0], "Fy": law[1], "Mz": law[2], "slip_fraction": law[3],
-            "a": patch[0], "b": patch[1], "p0": patch[2]}
-    return Jacobian(outputs, names, np.array([rows[o] for o in outputs]),
-                    f"{core.how}; the patch's analytic", core.steps)
-
-
-def _check_law(saturating: bool, N: float, mu: float, Fx: float, Fy: float,
-               slip_fraction: float) -> None:
-    """The part of ``check_outputs`` that is not the patch: ``slip_fraction`` in [0, 1], zero
-    forces when lifted, and |(Fx, Fy)| <= μN for a ``saturating`` method (Coulomb's law, Kalker
-    1979 eq 5, which every method's step keeps)."""
-    if not 0.0 <= slip_fraction <= 1.0:
-        raise ValueError(f"slip_fraction={slip_fraction!r} is out of range: allowed "
-                         "0 <= slip_fraction <= 1")
-    force = math.hypot(Fx, Fy)
-    if N <= 0.0:
-        if force != 0.0:
-            raise ValueError(f"Fx={Fx!r}, Fy={Fy!r} with N={N!r}: allowed zero forces for "
-                             "a lifted wheel (N <= 0)")
-    elif saturating and not force <= mu * N:
-        raise ValueError(f"Fx={Fx!r}, Fy={Fy!r}: |(Fx, Fy)| = {force!r} N is out of range: "
-                         f"allowed at most mu*N = {mu * N!r} N (mu={mu!r}, N={N!r})")
+        want = self.geometry.patch(N) if N > 0.0 else LIFTED_PATCH
+        self._check_outputs(f"N={N!r}", (a, b, p0), (want.a, want.b, want.p0), N, mu, Fx, Fy,
+                            slip_fraction)
 
 
 #: The default effects of a contact whose geometry is an input: every effect of ``ALL_EFFECTS``.
@@ -322,7 +358,7 @@ VARYING_GEOMETRY_EFFECTS = Effects(varying_geometry=True)
 
 
 @dataclass(frozen=True)
-class VaryingGeometryConfig:
+class VaryingGeometryConfig(_Config):
     """Fixed data of one wheel–rail contact whose geometry is an input at every step (the effect
     ``varying_geometry``; SI units): the method, the effects, the friction coefficient used
     when a call gets none, Young's modulus ``E`` (Pa) and Poisson's ratio ``nu`` of both
@@ -343,21 +379,27 @@ class VaryingGeometryConfig:
     geometry_input: str = GEOMETRY_INPUTS[0]
     friction: FrictionLaw | None = None
 
-    def __post_init__(self) -> None:
-        items = self.options.items() if isinstance(self.options, Mapping) else self.options
-        object.__setattr__(self, "options", tuple(sorted(items)))
-        object.__setattr__(self, "effects", as_effects(self.effects))
-
     def check(self) -> None:
         """Raise ``ValueError`` naming the first invalid parameter and its allowed range."""
-        if self.method not in METHODS:
-            raise ValueError(f"method={self.method!r} is unknown: allowed {list(METHODS)}")
+        self._check_method()
         if not self.effects.varying_geometry:
             raise ValueError("effects: VaryingGeometryConfig needs the effect 'varying_geometry' "
                              "(a fixed geometry: WheelRailConfig)")
         geometry_names(self.geometry_input)
         for name in ("mu", "E", "nu"):
             check(name, getattr(self, name))
+
+
+def contact_inputs(config: WheelRailConfig | VaryingGeometryConfig) -> tuple[str, ...]:
+    """The inputs of one contact of ``config``, in the order of the evaluator's arguments:
+    ξ, η, φ, N, μ, the geometry inputs with ``varying_geometry`` (A, B or a, b), and the
+    rolling speed V with ``falling_friction``."""
+    names = ("xi", "eta", "phi", "N", "mu")
+    if isinstance(config, VaryingGeometryConfig):
+        names += geometry_names(config.geometry_input)
+    if config.effects.falling_friction:
+        names += ("V",)
+    return names
 
 
 @register_jitable
@@ -370,7 +412,7 @@ def _semi_axes_patch(N: float, a: float, b: float, e_star: float) -> tuple[float
     return math.nan, math.nan, math.nan
 
 
-class VaryingGeometryEvaluator:
+class VaryingGeometryEvaluator(_Evaluator):
     """Evaluate one contact per simulation step with its geometry given at every step (module
     docstring). Attributes after a call: ``a``, ``b``, ``p0`` (the step's semi-axes, m, and
     peak pressure, Pa; 0 when lifted), ``last`` (the last loaded result: the warm start) and
@@ -378,24 +420,13 @@ class VaryingGeometryEvaluator:
 
     def __init__(self, config: VaryingGeometryConfig) -> None:
         config.check()
-        self.config = config
-        self.solver = make_solver(config.method, config.effects, config.friction,
-                                  **dict(config.options))
-        self.G = shear_modulus(config.E, config.nu)
-        self.nu = config.nu
-        self.mu = config.mu
+        super().__init__(config)
         self._e_star = contact_modulus(config.E, config.nu)
         #: the names of the geometry inputs, and their patch: Hertz's of the curvatures, or the
         #: caller's semi-axes with Hertz's pressure
         self.geometry = geometry_names(config.geometry_input)
         self._curvatures = self.geometry == ("A", "B")
         self._patch = patch_kernel() if self._curvatures else _semi_axes_patch
-        self.method_code = self._code = METHODS[config.method].code
-        self._name = self.solver.name
-        self._codes = {name: cls.code for name, cls in METHODS.items()}
-        self._lifted = make_result(0.0, 0.0, 0.0, config.method, 0.0)
-        self.a = self.b = self.p0 = 0.0
-        self.last: ContactResult | None = None
 
     def evaluate(self, xi: float, eta: float, phi: float, N: float, mu: float | None, gx: float,
                  gy: float, V: float | None = None) -> ContactResult:
@@ -410,46 +441,14 @@ class VaryingGeometryEvaluator:
         if mu is None:
             mu = self.mu
         if V is not None and self.solver.friction is None:
-            if V:
-                raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
-                                 "selected: allowed None or 0, or select the effect")
-            V = None
+            V = self._no_speed(V)
         if 0.0 < N < _INF:
             a, b, p0 = self._patch(N, gx, gy, self._e_star)
             if a != a:          # nan: no patch for this geometry
                 raise self._geometry_error(gx, gy)
-            result = (self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last)
-                      if V is None else
-                      self.solver.step(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last, V))
-            if not math.isfinite(result.Fx + result.Fy + result.Mz):  # a method's bug
-                raise FloatingPointError(
-                    f"method {result.method!r} returned non-finite forces (Fx={result.Fx!r}, "
-                    f"Fy={result.Fy!r}, Mz={result.Mz!r}) for xi={xi!r}, eta={eta!r}, "
-                    f"phi={phi!r}, N={N!r}, mu={mu!r}, a={a!r}, b={b!r}")
-            self.last = result
-            self.a = a
-            self.b = b
-            self.p0 = p0
-            self.method_code = (self._code if result.method is self._name
-                                else self._codes[result.method])
-            return result
-        if -_INF < N <= 0.0:
-            self._check_lifted(xi, eta, phi, mu, gx, gy, V)
-            self.a = self.b = self.p0 = 0.0
-            self.method_code = self._code
-            return self._lifted
-        raise out_of_range("N", N)
-
-    def _check_lifted(self, xi: float, eta: float, phi: float, mu: float, gx: float, gy: float,
-                      V: float | None) -> None:
-        """The checks of a lifted wheel's inputs (finite; ``ValueError`` naming one)."""
-        check_inputs(xi, eta, phi, 0.0, mu, 1.0, 1.0, self.G, self.nu)
-        if V is not None:
-            _speed(V)
-        for name, v in zip(self.geometry, (gx, gy)):
-            if not math.isfinite(v):
-                raise ValueError(f"{name}={v!r} is out of range: allowed a finite number "
-                                 "(any finite value while the wheel is lifted, N <= 0)")
+            return self._step(xi, eta, phi, N, mu, a, b, p0, V)
+        self._check_lifted(N, xi, eta, phi, mu, V, zip(self.geometry, (gx, gy)))
+        return self._lift()
 
     def jacobian(self, xi: float, eta: float, phi: float, N: float, mu: float | None,
                  gx: float, gy: float, V: float | None = None) -> Jacobian:
@@ -463,30 +462,23 @@ class VaryingGeometryEvaluator:
         caller's a, b with p0 = 3N/(2πab). Lifted (N <= 0): zero."""
         if mu is None:
             mu = self.mu
-        if V is not None and self.solver.friction is None and V:
-            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
-                             "selected: allowed None or 0, or select the effect")
-        names = ("xi", "eta", "phi", "N", "mu") + self.geometry \
-            + (("V",) if self.solver.friction else ())
+        if V is not None and self.solver.friction is None:
+            V = self._no_speed(V)
         outputs = EVALUATOR_OUTPUTS if self._curvatures else SEMI_AXES_OUTPUTS
         if not 0.0 < N < _INF:
-            if not -_INF < N <= 0.0:
-                raise out_of_range("N", N)
-            self._check_lifted(xi, eta, phi, mu, gx, gy, V)
-            return Jacobian(outputs, names, np.zeros((len(outputs), len(names))), "zero")
+            self._check_lifted(N, xi, eta, phi, mu, V, zip(self.geometry, (gx, gy)))
+            return self._zero_jacobian(outputs)
         a, b, p0 = self._patch(N, gx, gy, self._e_star)
         if a != a:
             raise self._geometry_error(gx, gy)
-        patch = np.zeros((3, len(names)))
+        patch = np.zeros((3, len(self.inputs)))
         if self._curvatures:
             a, b, p0, d = tabulated_patch_derivatives(N, gx, gy, self._e_star)
             patch[:, [3, 5, 6]] = d
         else:
             patch[0, 5] = patch[1, 6] = 1.0
             patch[2, [3, 5, 6]] = (p0 / N, -p0 / a, -p0 / b)
-        core = self.solver.jacobian(xi, eta, phi, N, mu, a, b, self.G, self.nu, self.last,
-                                    V if self.solver.friction else None)
-        return _chain(core, patch, names, outputs)
+        return self._chain(outputs, patch, xi, eta, phi, N, mu, a, b, V)
 
     def _geometry_error(self, gx: float, gy: float) -> ValueError:
         """The error for a geometry without a patch: the first input outside its range, else
@@ -520,9 +512,4 @@ class VaryingGeometryEvaluator:
         if not self._curvatures:            # a, b are the caller's
             want = (a, b, want[2]) if N > 0.0 else (a, b, 0.0)
         what = ", ".join(f"{n}={v!r}" for n, v in zip(("N",) + self.geometry, (N, gx, gy)))
-        for name, value, expected in zip(("a", "b", "p0"), (a, b, p0), want):
-            if not math.isclose(value, expected, rel_tol=1e-12):
-                raise ValueError(f"{name}={value!r} is not the Hertz patch of {what}: allowed "
-                                 f"{name}={expected!r}")
-        _check_law(self.config.effects.saturation and self.solver.saturates, N, mu, Fx, Fy,
-                   slip_fraction)
+        self._check_outputs(what, (a, b, p0), want, N, mu, Fx, Fy, slip_fraction)

@@ -16,7 +16,6 @@ states at V = 20 m/s, falling and Coulomb friction timed in alternating rounds, 
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import time
@@ -24,6 +23,8 @@ import time
 import numpy as np
 
 import contact_core as cc
+
+from .report_command import report_command
 
 COULOMB = ("longitudinal", "lateral", "spin", "saturation")
 FALLING = COULOMB + ("falling_friction",)
@@ -138,15 +139,7 @@ def section(heading: str = "##") -> str:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", help="also write the report (markdown) here")
-    a = ap.parse_args(argv)
-    text = section("#")
-    print(text)
-    if a.out:
-        with open(a.out, "w", encoding="utf-8") as f:
-            f.write(text)
-    return 0
+    return report_command(__doc__, lambda: section("#"), argv)
 
 
 if __name__ == "__main__":

@@ -19,15 +19,14 @@ from __future__ import annotations
 import argparse
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
-from fmpy import read_model_description
 
 import contact_core as cc
 from wheel_rail_fmu.build import build
-from wheel_rail_fmu.host import FmuInstance
+
+from .fmu_timing import TimedInstance
 
 #: The trivial FMU's pythonfmu slave script.
 TRIVIAL = Path(__file__).resolve().parent / "trivial_fmu" / "trivial_contact.py"
@@ -41,39 +40,13 @@ def build_trivial(out: Path) -> Path:
     return Path(FmuBuilder.build_FMU(TRIVIAL, dest=out))
 
 
-class Session(FmuInstance):
-    """One initialised instance (the start values it has) with its inputs and Real outputs."""
-
-    def __init__(self, path: Path, start: dict | None = None) -> None:
-        names = {v.name for v in read_model_description(str(path)).modelVariables}
-        super().__init__(path, "bench", {k: v for k, v in (start or {}).items() if k in names},
-                         logging_on=False)
-        self.inputs = [n for n, v in self.vars.items() if v.causality == "input"]
-        self.outputs = [n for n, v in self.vars.items()
-                        if v.causality == "output" and v.type == "Real"]
-
-    def run(self, steps: int) -> float:
-        """µs per setReal + doStep + getReal over ``steps`` steps."""
-        fmu = self.fmu
-        vin = [self.vr(n) for n in self.inputs]
-        vout = [self.vr(n) for n in self.outputs]
-        # (V: the rolling speed of falling friction; A, B: the default curvatures, a, b their
-        # patch under 100 kN, for the scenes with varying_geometry)
-        base = {"xi": 1e-3, "eta": -5e-4, "phi": 0.2, "N": 1e5, "mu": 0.3, "V": 20.0,
-                "A": 0.5 / 0.46, "B": 0.5 / 0.3, "a": 7e-3, "b": 5.4e-3}
-        rng = np.random.default_rng(0)
-        scale = 1.0 + 0.1 * rng.random(steps)
-        rows = [[base[n] * s for n in self.inputs] for s in scale]
-        set_real, do_step, get_real = fmu.setReal, fmu.doStep, fmu.getReal
-        t, dt = 0.0, 1e-3
-        t0 = time.perf_counter()
-        for row in rows:
-            set_real(vin, row)
-            do_step(t, dt)
-            get_real(vout)
-            t += dt
-        return (time.perf_counter() - t0) / steps * 1e6
-
+#: Each input's value in the steps (V: the rolling speed of falling friction; A, B: the default
+#: curvatures, a, b their patch under 100 kN, for the scenes with varying_geometry), scaled by
+#: up to 10 % at random per step.
+BASE = {"xi": 1e-3, "eta": -5e-4, "phi": 0.2, "N": 1e5, "mu": 0.3, "V": 20.0,
+        "A": 0.5 / 0.46, "B": 0.5 / 0.3, "a": 7e-3, "b": 5.4e-3}
+#: Steps of the warm-up, which tells the slow cases (over 1 ms per step).
+WARM_UP = 20
 
 
 def measure(cases: dict[str, tuple[Path, dict | None]], steps: int, repeat: int,
@@ -81,16 +54,16 @@ def measure(cases: dict[str, tuple[Path, dict | None]], steps: int, repeat: int,
     """µs per step of each case (label -> (fmu, start values)): all instances are live at once
     and measured round-robin, best of ``repeat`` rounds, so slow drifts of the machine's load hit
     every case alike. Cases slower than 1 ms per step run ``slow_steps`` steps."""
-    sessions = {k: Session(path, start) for k, (path, start) in cases.items()}
+    scale = 1.0 + 0.1 * np.random.default_rng(0).random(max(steps, slow_steps, WARM_UP))
+    columns = {n: [v * s for s in scale] for n, v in BASE.items()}
+    sessions = {k: TimedInstance(path, start, columns) for k, (path, start) in cases.items()}
     try:
-        n = {}
-        for k, s in sessions.items():
-            quick = s.run(20)  # warm-up (imports, caches, JIT)
-            n[k] = steps if quick < 1000 else slow_steps
+        n = {k: steps if s.run(WARM_UP, None) < 1000 else slow_steps   # imports, caches, JIT
+             for k, s in sessions.items()}
         times = {k: float("inf") for k in sessions}
         for _ in range(repeat):
             for k, s in sessions.items():
-                times[k] = min(times[k], s.run(n[k]))
+                times[k] = min(times[k], s.run(n[k], None))
         return times
     finally:
         for s in sessions.values():

@@ -38,7 +38,8 @@ import numpy as np
 
 import contact_core as cc
 from wheel_rail_fmu.build import build
-from wheel_rail_fmu.host import FmuInstance
+
+from .fmu_timing import CHUNK, TimedInstance, interleaved_best
 
 #: The trivial FMU's pythonfmu slave script (the vehicle scene's interface).
 TRIVIAL = Path(__file__).resolve().parent / "trivial_fmu" / "trivial_geometry.py"
@@ -50,7 +51,6 @@ G = cc.shear_modulus(E, NU)
 #: The curvatures of the default radii (contact_core.variables: R_wheel 0.46 m, rail crown 0.3 m).
 A0, B0 = 0.5 / 0.46, 0.5 / 0.3
 VARYING = cc.Effects(varying_geometry=True)
-INPUTS = ("xi", "eta", "phi", "N", "mu", "A", "B")
 
 
 def trajectory(n: int) -> dict[str, list[float]]:
@@ -73,11 +73,6 @@ def _solve_rows(tr: dict[str, list[float]], fixed: bool) -> list[tuple]:
         p = geometry.patch(N) if fixed else cc.hertz(N, tr["A"][i], tr["B"][i], E, NU)
         rows.append((tr["xi"][i], tr["eta"][i], tr["phi"][i], N, tr["mu"][i], p.a, p.b))
     return rows
-
-
-#: Calls timed together: a case's time is the least over its chunks and rounds (another
-#: process taking the core for a while spoils a chunk, not the case).
-CHUNK = 250
 
 
 def _time_solve(method: str, effects, rows: list[tuple]) -> float:
@@ -104,17 +99,6 @@ def _time_evaluate(evaluate, args: list[tuple]) -> float:
     return best * 1e6
 
 
-def _best(cases: dict, repeat: int) -> dict[str, float]:
-    """Best µs of each case (label -> callable returning µs), interleaved rounds."""
-    best = {k: math.inf for k in cases}
-    for f in cases.values():
-        f()                                     # warm-up: compilation, caches, table rows
-    for _ in range(repeat):
-        for k, f in cases.items():
-            best[k] = min(best[k], f())
-    return best
-
-
 def per_call(calls: int, repeat: int) -> dict[str, float]:
     """Section 1 of the module docstring: µs per call by case label."""
     tr = trajectory(calls)
@@ -133,7 +117,7 @@ def per_call(calls: int, repeat: int) -> dict[str, float]:
                     for i, r in enumerate(new)]
         cases[f"{m}/evaluate fixed"] = lambda f=ev_fixed.evaluate, x=args: _time_evaluate(f, x)
         cases[f"{m}/evaluate new"] = lambda f=ev_new.evaluate, x=args_new: _time_evaluate(f, x)
-    return _best(cases, repeat)
+    return interleaved_best(cases, repeat)
 
 
 def exact_warm_start(steps: int) -> dict[str, float]:
@@ -161,36 +145,6 @@ def exact_warm_start(steps: int) -> dict[str, float]:
     return out
 
 
-class _Session(FmuInstance):
-    """One initialised instance with the trajectory's rows of its inputs."""
-
-    def __init__(self, path: Path, start: dict | None, tr: dict[str, list[float]]) -> None:
-        super().__init__(path, "bench", start, logging_on=False)
-        names = [n for n in INPUTS if n in self.vars]
-        self.vin = [self.vr(n) for n in names]
-        self.vout = [self.vr(n) for n, v in self.vars.items()
-                     if v.causality == "output" and v.type == "Real"]
-        self.rows = [[tr[n][i] for n in names] for i in range(len(tr["N"]))]
-
-    def run(self) -> float:
-        """µs per setReal + doStep + getReal, the least over chunks of the trajectory."""
-        set_real, do_step, get_real = self.fmu.setReal, self.fmu.doStep, self.fmu.getReal
-        vin, vout = self.vin, self.vout
-        t, dt = self.t, 1e-3
-        best = math.inf
-        for i in range(0, len(self.rows), CHUNK):
-            chunk = self.rows[i:i + CHUNK]
-            t0 = time.perf_counter()
-            for row in chunk:
-                set_real(vin, row)
-                do_step(t, dt)
-                get_real(vout)
-                t += dt
-            best = min(best, (time.perf_counter() - t0) / len(chunk))
-        self.t = t
-        return best * 1e6
-
-
 def per_step(steps: int, repeat: int, out: Path) -> dict[str, float]:
     """Section 3: µs per FMU step by case label."""
     from pythonfmu import FmuBuilder
@@ -198,13 +152,13 @@ def per_step(steps: int, repeat: int, out: Path) -> dict[str, float]:
     trivial = Path(FmuBuilder.build_FMU(TRIVIAL, dest=out / "trivial"))
     vehicle = build("vehicle", out=out / "vehicle")
     full = build("full", out=out / "full")
-    sessions = {"trivial": _Session(trivial, None, tr)}
+    sessions = {"trivial": TimedInstance(trivial, None, tr)}
     for m in METHODS:
         start = {"method": m, **OPTIONS.get(m, {})}
-        sessions[f"vehicle/{m}"] = _Session(vehicle, start, tr)
-        sessions[f"full/{m}"] = _Session(full, start, tr)
+        sessions[f"vehicle/{m}"] = TimedInstance(vehicle, start, tr)
+        sessions[f"full/{m}"] = TimedInstance(full, start, tr)
     try:
-        return _best({k: s.run for k, s in sessions.items()}, repeat)
+        return interleaved_best({k: s.run for k, s in sessions.items()}, repeat)
     finally:
         for s in sessions.values():
             s.free()

@@ -37,110 +37,30 @@ import math
 import sys
 import tempfile
 import time
-from ctypes import c_double, c_uint
 from pathlib import Path
 
-import numpy as np
-from fmpy.fmi2 import fmi2True
 from wheel_rail_fmu.build import build
-from wheel_rail_fmu.host import FmuInstance
 
 from .bench_geometry import TRIVIAL as TRIVIAL_SINGLE, trajectory
+from .fmu_timing import CHUNK, TimedInstance, interleaved_best
 
 TRIVIAL_MULTI = Path(__file__).resolve().parent / "trivial_fmu" / "trivial_contacts.py"
 INPUTS = ("xi", "eta", "phi", "N", "mu", "A", "B")
-CHUNK = 250
 #: Steps of phase between contacts along the trajectory.
 SHIFT = 397
 
 
-def contact_rows(steps: int, contacts: int, lifted: int = 0) -> list[list[float]]:
-    """Per step, every contact's inputs in the order c[1] .. c[N], each of ``INPUTS``; the
-    last ``lifted`` contacts have N = -1 (lifted)."""
+def contact_columns(steps: int, contacts: int, lifted: int = 0) -> dict[str, list[float]]:
+    """Every contact's inputs per step by name (c[1] .. c[N], each of ``INPUTS``); the last
+    ``lifted`` contacts have N = -1 (lifted)."""
     tr = trajectory(steps + SHIFT * contacts)
-    rows = []
-    for i in range(steps):
-        row = []
-        for k in range(contacts):
-            j = i + SHIFT * k
-            values = [tr[n][j] for n in INPUTS]
-            if k >= contacts - lifted:
-                values[3] = -1.0
-            row += values
-        rows.append(row)
-    return rows
-
-
-def names(contacts: int, local: tuple[str, ...]) -> list[str]:
-    return [n if contacts == 1 else f"c[{k}].{n}" for k in range(1, contacts + 1)
-            for n in local]
-
-
-class _Session(FmuInstance):
-    """One initialised instance with its rows of inputs (fmpy)."""
-
-    def __init__(self, path: Path, start: dict | None, contacts: int, rows: list) -> None:
-        super().__init__(path, "bench", start, logging_on=False)
-        self.vin = [self.vr(n) for n in names(contacts, INPUTS)]
-        self.vout = [v.valueReference for v in self.vars.values()
-                     if v.causality == "output" and v.type == "Real"]
-        self.rows = rows
-
-    def run(self) -> float:
-        """µs per setReal + doStep + getReal with lists, the least over chunks of the rows."""
-        set_real, do_step, get_real = self.fmu.setReal, self.fmu.doStep, self.fmu.getReal
-        vin, vout = self.vin, self.vout
-        t, dt = self.t, 1e-3
-        best = math.inf
-        for i in range(0, len(self.rows), CHUNK):
-            chunk = self.rows[i:i + CHUNK]
-            t0 = time.perf_counter()
-            for row in chunk:
-                set_real(vin, row)
-                do_step(t, dt)
-                get_real(vout)
-                t += dt
-            best = min(best, (time.perf_counter() - t0) / len(chunk))
-        self.t = t
-        return best * 1e6
-
-    def run_arrays(self) -> float:
-        """µs per fmi2SetReal + fmi2DoStep + fmi2GetReal with arrays made once (the step's
-        inputs copied into them), the least over chunks of the rows."""
-        fmu = self.fmu
-        set_real, do_step, get_real = fmu.fmi2SetReal, fmu.fmi2DoStep, fmu.fmi2GetReal
-        component = fmu.component
-        n_in, n_out = len(self.vin), len(self.vout)
-        vin = (c_uint * n_in)(*self.vin)
-        vout = (c_uint * n_out)(*self.vout)
-        values = (c_double * n_in)()
-        outputs = (c_double * n_out)()
-        into = np.frombuffer(values)
-        rows = np.array(self.rows)
-        t, dt = self.t, 1e-3
-        best = math.inf
-        for i in range(0, len(rows), CHUNK):
-            chunk = rows[i:i + CHUNK]
-            t0 = time.perf_counter()
-            for row in chunk:
-                into[:] = row
-                set_real(component, vin, n_in, values)
-                do_step(component, t, dt, fmi2True)
-                get_real(component, vout, n_out, outputs)
-                t += dt
-            best = min(best, (time.perf_counter() - t0) / len(chunk))
-        self.t = t
-        return best * 1e6
-
-
-def _best(cases: dict, repeat: int) -> dict[str, float]:
-    best = {k: math.inf for k in cases}
-    for f in cases.values():
-        f()                                     # warm-up: compilation, tables
-    for _ in range(repeat):
-        for k, f in cases.items():
-            best[k] = min(best[k], f())
-    return best
+    columns = {}
+    for k in range(contacts):
+        for n in INPUTS:
+            lift = n == "N" and k >= contacts - lifted
+            columns[n if contacts == 1 else f"c[{k + 1}].{n}"] = (
+                [-1.0] * steps if lift else tr[n][SHIFT * k:SHIFT * k + steps])
+    return columns
 
 
 def build_all(out: Path) -> dict[str, Path]:
@@ -169,14 +89,14 @@ def per_step_fmpy(fmus: dict[str, Path], steps: int, repeat: int) -> dict[str, f
              "table 16, 8 lifted": (fmus["table 16"], None, 16, 8),
              "table 16, all lifted": (fmus["table 16"], None, 16, 16),
              "johnson_vermeulen 16": (fmus["table 16"], {"method": "johnson_vermeulen"}, 16, 0)}
-    sessions = {k: _Session(path, start, n, contact_rows(steps, n, lifted))
+    sessions = {k: TimedInstance(path, start, contact_columns(steps, n, lifted))
                 for k, (path, start, n, lifted) in cases.items()}
     runs = {}
     for k, s in sessions.items():
         runs[k] = s.run
         runs[f"{k}, arrays"] = s.run_arrays
     try:
-        return _best(runs, repeat)
+        return interleaved_best(runs, repeat)
     finally:
         for s in sessions.values():
             s.free()
@@ -201,8 +121,9 @@ def per_step_libcosim(fmus: dict[str, Path], steps: int, repeat: int) -> dict[st
                                                           instance_name="contacts"))
         vr = {v.name: v.valueReference
               for v in read_model_description(str(fmus[key])).modelVariables}
-        vin = [vr[name] for name in names(n, INPUTS)]
-        rows = contact_rows(steps, n)
+        columns = contact_columns(steps, n)
+        vin = [vr[name] for name in columns]
+        rows = [list(row) for row in zip(*columns.values())]
         set_values = manipulator.slave_real_values
         step = execution.step
 
@@ -231,7 +152,7 @@ def per_step_libcosim(fmus: dict[str, Path], steps: int, repeat: int) -> dict[st
         runs[key] = (execution, manipulator, new)
         runs[f"{key}, held"] = (execution, manipulator, held)
     try:
-        return _best({k: r[2] for k, r in runs.items()}, repeat)
+        return interleaved_best({k: r[2] for k, r in runs.items()}, repeat)
     finally:
         runs.clear()
 

@@ -21,7 +21,6 @@ contact_core.coefficients).
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import math
 import sys
@@ -30,6 +29,8 @@ import warnings
 from importlib import resources
 
 import contact_core as cc
+
+from .report_command import report_command
 
 #: (label, method, options): the default settings, and the exact solver on one grid.
 SETTINGS = (("linear", "linear", {}), ("Johnson–Vermeulen", "johnson_vermeulen", {}),
@@ -104,15 +105,7 @@ def report() -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", help="also write the report (markdown) here")
-    a = ap.parse_args(argv)
-    text = report()
-    print(text)
-    if a.out:
-        with open(a.out, "w", encoding="utf-8") as f:
-            f.write(text)
-    return 0
+    return report_command(__doc__, report, argv)
 
 
 if __name__ == "__main__":

@@ -19,7 +19,6 @@
 """
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 from pathlib import Path
@@ -30,11 +29,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from wheelsets.build import build_contact, build_wheelsets, contact_fmu_name  # noqa: E402
+from wheelsets.scripts import command_line  # noqa: E402
 from wheelsets.systems import make_system  # noqa: E402
 
 import contact_core as cc  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
 E, NU, MU, N_WHEEL, R0, R_RAIL = 210e9, 0.28, 0.3, 50e3, 0.46, 0.3
 V_DRIVE, I_Y = 20.0, 120.0
 T_LIMIT = MU * 2 * N_WHEEL * R0            # Coulomb adhesion limit of the wheelset, N m
@@ -110,18 +109,12 @@ def run(dist: Path, scene: str, xi_target: float = 0.0):
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=str(ROOT / "out"))
-    ap.add_argument("--dist", default=str(ROOT / "dist" / "wheelsets"))
-    ap.add_argument("--no-build", action="store_true")
-    a = ap.parse_args(argv)
-    out, dist = Path(a.out), Path(a.dist)
-    out.mkdir(parents=True, exist_ok=True)
+    out, dist, build_fmus = command_line(__doc__, argv)
     peaks = plot_curves(out)
     print(f"adhesion peaks at V = {V_DRIVE:g} m/s (Fx/(mu0 N) at creepage):")
     for label, (f, xi) in peaks.items():
         print(f"  {label:<26} {f:.3f} at {100 * xi:.2f} %")
-    if not a.no_build:
+    if build_fmus:
         build_wheelsets(dist)
         for scene in ("traction", "traction_falling"):
             build_contact(scene, "polach", dist)

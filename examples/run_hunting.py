@@ -11,10 +11,7 @@ method.
 """
 from __future__ import annotations
 
-import argparse
 import math
-import os
-import platform
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,10 +21,10 @@ import numpy as np
 from wheelsets.analysis import fit_damped
 from wheelsets.build import build_contact, build_wheelsets, contact_fmu_name
 from wheelsets.linear_model import LinearWheelset
+from wheelsets.scripts import command_line, machine_note
 from wheelsets.systems import (driven_time_constant, lateral_time_constant, make_system,
                                recommended_step)
 
-ROOT = Path(__file__).resolve().parent.parent
 
 CONTACTS = [("tangent_track", "linear"), ("full", "linear"), ("full", "johnson_vermeulen"),
             ("full", "fastsim"), ("full", "exact")]
@@ -314,20 +311,13 @@ def summary(res: Results) -> str:
         for scene, method, h, per_s, steps in tab:
             L.append(f"| {label} | {scene}, {method} | {h * 1e3:.2f} | {per_s:.3g} | "
                      f"{per_s * h * 1e3:.3g} | {steps} |")
-    L.append(f"\n(machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-             "shared with other jobs: timings are indicative.)")
+    L.append(machine_note())
     return "\n".join(L) + "\n"
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=str(ROOT / "out"))
-    ap.add_argument("--dist", default=str(ROOT / "dist" / "wheelsets"))
-    ap.add_argument("--no-build", action="store_true")
-    a = ap.parse_args(argv)
-    out, dist = Path(a.out), Path(a.dist)
-    out.mkdir(parents=True, exist_ok=True)
-    if not a.no_build:
+    out, dist, build_fmus = command_line(__doc__, argv)
+    if build_fmus:
         build(dist)
     lw = LinearWheelset(k_y=K_Y, k_psi=K_PSI)
     Vc = lw.critical_speed()

@@ -23,10 +23,7 @@ hunting pair leaves the unit circle (≈ 2τ, ``examples/wheelsets/README.md``).
 """
 from __future__ import annotations
 
-import argparse
 import math
-import os
-import platform
 import sys
 import time
 from pathlib import Path
@@ -39,9 +36,9 @@ from scipy.optimize import brentq
 from wheelsets.analysis import fit_damped
 from wheelsets.build import build_contact, build_wheelsets, contact_fmu_name
 from wheelsets.linear_model import LinearWheelset
+from wheelsets.scripts import command_line, machine_note
 from wheelsets.systems import driven_time_constant, make_system, recommended_step
 
-ROOT = Path(__file__).resolve().parent.parent
 CONTACTS = (("tangent_track", "linear"), ("full", "fastsim"), ("traction", "fastsim"))
 #: (label, scheme, hold) of the couplings compared
 SCHEMES = (("explicit (Gauss-Seidel)", "gauss-seidel", "constant"),
@@ -183,14 +180,8 @@ def amplitude(r) -> float:
 
 # ------------------------------------------------------------------------------------------------
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=str(ROOT / "out"))
-    ap.add_argument("--dist", default=str(ROOT / "dist" / "wheelsets"))
-    ap.add_argument("--no-build", action="store_true")
-    a = ap.parse_args(argv)
-    out, dist = Path(a.out), Path(a.dist)
-    out.mkdir(parents=True, exist_ok=True)
-    if not a.no_build:
+    out, dist, build_fmus = command_line(__doc__, argv)
+    if build_fmus:
         build_wheelsets(dist)
         for scene, method in CONTACTS:
             build_contact(scene, method, dist)
@@ -323,8 +314,7 @@ def main(argv=None) -> int:
                 walls.append(r.wall_time / r.steps)
             cells.append(f"{np.median(walls) * 1e6:.0f} µs")
         L.append(f"| {name} | " + " | ".join(cells) + " |")
-    L.append(f"\n(machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-             f"shared with other jobs: timings are indicative; {time.strftime('%Y-%m-%d')}.)")
+    L.append(machine_note(f"; {time.strftime('%Y-%m-%d')}"))
 
     plot(out, lw, lim_c, ratios, predicted, h_big, vc_runs, vc_ref, runs_ref, h_ref, ref_d,
          d_runs, lim_d, lc, lim_lc)

@@ -22,10 +22,7 @@ Writes ``out/real_profile_hunting.png``, ``out/real_profile_bifurcation.png``,
 """
 from __future__ import annotations
 
-import argparse
 import math
-import os
-import platform
 import sys
 import time
 from pathlib import Path
@@ -38,8 +35,8 @@ from wheelsets.build import build_contact, build_profile_wheelsets, contact_fmu_
 from wheelsets.profile_linear import ProfileLinearWheelset
 from wheelsets.profile_systems import (bundled_table, contact_start, make_system,
                                        recommended_step)
+from wheelsets.scripts import command_line, machine_note
 
-ROOT = Path(__file__).resolve().parent.parent
 CONTACT = contact_fmu_name("vehicle", "table")
 TANGENT, CURVING = "TangentTrackProfileWheelset", "CurvingProfileWheelset"
 MU, W = 0.3, 100e3
@@ -362,21 +359,14 @@ def summary(table, r0, A_fold, V_lin, crit, cycles, amps, vc, curves, R_exact, d
     L.append("|---|---|---|")
     for label, method, cost in timings:
         L.append(f"| {label} | {method} | {cost:.2f} |")
-    L.append(f"\n(machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-             "shared with other jobs: timings are indicative.)")
+    L.append(machine_note())
     return "\n".join(L) + "\n"
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=str(ROOT / "out"))
-    ap.add_argument("--dist", default=str(ROOT / "dist" / "wheelsets"))
-    ap.add_argument("--no-build", action="store_true")
-    a = ap.parse_args(argv)
-    out, dist = Path(a.out), Path(a.dist)
-    out.mkdir(parents=True, exist_ok=True)
+    out, dist, build_fmus = command_line(__doc__, argv)
     t0 = time.perf_counter()
-    if not a.no_build:
+    if build_fmus:
         build(dist)
     table, r0 = bundled_table(dist / f"{TANGENT}.fmu")
     amps, vc = linear_estimates(table, r0)

@@ -78,7 +78,7 @@ import math
 from dataclasses import dataclass
 
 from .profile_runtime import geometry
-from .wheelset_dynamics import LateralState, LateralWheelset, _p
+from .wheelset_dynamics import LateralState, YawWheelset, _p, check_params, rk4
 
 #: The patches: name -> (side, slot) in the contact-geometry table (slot 0 tread, 1 flange).
 PATCHES: dict[str, tuple[str, int]] = {"Lt": ("left", 0), "Lf": ("left", 1),
@@ -110,16 +110,8 @@ class ProfileParams:
     max_substep: float = _p(2.5e-4, "largest RK4 substep inside one communication step, s")
 
     def check(self) -> None:
-        for name in ("V", "m", "I_z", "axle_load", "max_substep"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0.0):
-                raise ValueError(f"{name}={v!r} is out of range: allowed 0 < {name} < inf")
-        for name in ("k_y", "k_psi", "c_y", "c_psi", "L_transition"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0.0):
-                raise ValueError(f"{name}={v!r} is out of range: allowed 0 <= {name} < inf")
-        if self.R == 0.0 or math.isnan(self.R):
-            raise ValueError(f"R={self.R!r} is out of range: allowed |R| > 0 (inf: tangent track)")
+        check_params(self, ("V", "m", "I_z", "axle_load", "max_substep"),
+                     ("k_y", "k_psi", "c_y", "c_psi", "L_transition"))
 
 
 @dataclass(frozen=True)
@@ -157,27 +149,19 @@ def _approach(load: float, gaps: tuple[float, float], factors: tuple[float, floa
     return d
 
 
-class ProfileWheelset:
+class ProfileWheelset(YawWheelset):
     """The wheelset of the module docstring on the contact-geometry ``table`` of wheels of
     nominal rolling radius ``nominal_radius`` (m; the radius at the wheel profile's origin, as
     the table was built with). :meth:`step` takes the contact FMUs' forces per patch."""
 
-    #: κ(t) and dκ/dt: the clothoid of ``wheelset_dynamics`` (it reads p.V, p.L_transition and
-    #: kappa_end, which this class has too)
-    curvature = LateralWheelset.curvature
-
     def __init__(self, params: ProfileParams, table, nominal_radius: float,
                  state: LateralState | None = None, t0: float = 0.0) -> None:
-        params.check()
+        super().__init__(params, state, t0)
         if not (math.isfinite(nominal_radius) and nominal_radius > 0.0):
             raise ValueError(f"nominal_radius={nominal_radius!r} is out of range: allowed "
                              "0 < nominal_radius < inf (m)")
         if not table.y[0] < 0.0 < table.y[-1]:
             raise ValueError("the contact-geometry table must span both sides of y = 0")
-        self.p = params
-        self.s = state or LateralState()
-        self.t = t0
-        self.kappa_end = 0.0 if math.isinf(params.R) else 1.0 / params.R
         self.table = table
         self.r0 = float(nominal_radius)
         index = {n: i for i, n in enumerate(geometry.table.COLUMNS)}
@@ -311,8 +295,9 @@ class ProfileWheelset:
         return out
 
     # -- dynamics --------------------------------------------------------------------------------
-    def _deriv(self, t, y, psi, vy, dpsi):
+    def _deriv(self, t, x, _):
         p = self.p
+        y, psi, vy, dpsi = x
         fy, mz = self._resultants(y, psi)
         _, dkappa = self.curvature(t)
         ay = (fy - p.k_y * y - p.c_y * vy) / p.m
@@ -329,32 +314,20 @@ class ProfileWheelset:
         self.held = held
         if not h > 0.0:
             return
-        n = max(1, math.ceil(h / self.p.max_substep - 1e-9))
-        dt = h / n
-        s, t, f = self.s, self.t, self._deriv
-        x = (s.y, s.psi, s.vy, s.dpsi)
-        for _ in range(n):
-            k1 = f(t, *x)
-            k2 = f(t + 0.5 * dt, *(a + 0.5 * dt * b for a, b in zip(x, k1)))
-            k3 = f(t + 0.5 * dt, *(a + 0.5 * dt * b for a, b in zip(x, k2)))
-            k4 = f(t + dt, *(a + dt * b for a, b in zip(x, k3)))
-            x = tuple(a + dt / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4)
-                      for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4))
-            t += dt
-        s.y, s.psi, s.vy, s.dpsi = x
+        s = self.s
+        s.y, s.psi, s.vy, s.dpsi = rk4(self._deriv, self.t, (s.y, s.psi, s.vy, s.dpsi), h,
+                                       self.p.max_substep)
         self.t += h
 
     def state_values(self) -> dict[str, float]:
         """The state as name -> float: time, the four states and the forces held per patch
         (the normal loads depend on them); for the FMU's state (``wheelset_fmu_common``)."""
-        s = self.s
-        out = {"t": self.t, "y": s.y, "psi": s.psi, "vy": s.vy, "dpsi": s.dpsi}
+        out = super().state_values()
         for patch, forces in zip(PATCHES, self.held):
             out.update({f"{q}_{patch}": v for q, v in zip(PATCH_INPUTS, forces)})
         return out
 
     def set_state_values(self, values: dict[str, float]) -> None:
-        self.t = values["t"]
-        self.s = LateralState(values["y"], values["psi"], values["vy"], values["dpsi"])
+        super().set_state_values(values)
         self.held = tuple(tuple(values[f"{q}_{patch}"] for q in PATCH_INPUTS)
                           for patch in PATCHES)

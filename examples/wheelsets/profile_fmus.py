@@ -28,8 +28,7 @@ from __future__ import annotations
 
 import json
 
-from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
-from pythonfmu.enums import Fmi2Initial
+from pythonfmu import Fmi2Causality, Fmi2Slave
 
 from .profile_dynamics import PATCH_INPUTS, PATCH_OUTPUTS, PATCHES, WHEELS, ProfileParams, \
     ProfileWheelset
@@ -77,35 +76,22 @@ class TangentTrackProfileWheelset(WheelsetSlaveBase):
     def __init__(self, **kwargs):
         Fmi2Slave.__init__(self, **kwargs)
         params = [f for f in param_fields(ProfileParams) if f[0] not in _CURVE_ONLY]
-        self._declare(params + list(INITIAL_STATE), OTHER_OUTPUTS)
+        self._declare_patches(params + list(INITIAL_STATE), OTHER_OUTPUTS)
 
-    def _declare(self, parameters, extra_outputs):
+    def _declare_patches(self, parameters, extra_outputs):
         """Register the parameters, the patches' inputs and outputs and ``extra_outputs``."""
-        self._param_names = []
-        for name, default, desc in parameters:
-            setattr(self, name, float(default))
-            self._param_names.append(name)
-            self.register_variable(Real(name, causality=Fmi2Causality.parameter,
-                                        variability=Fmi2Variability.fixed,
-                                        initial=Fmi2Initial.exact, description=desc))
-
-        def signal(name, causality, desc):
-            setattr(self, name, 0.0)
-            self.register_variable(Real(name, causality=causality,
-                                        variability=Fmi2Variability.continuous, description=desc))
-
+        self._declare_parameters(parameters)
         for patch in PATCHES:
             for base in PATCH_INPUTS:
-                signal(f"{base}_{patch}", Fmi2Causality.input,
-                       f"{base} of the {_PATCH_TEXT[patch]} patch, rail on wheel, contact "
-                       f"frame, {_UNITS[base]}")
+                self._signal(f"{base}_{patch}", Fmi2Causality.input,
+                             f"{base} of the {_PATCH_TEXT[patch]} patch, rail on wheel, contact "
+                             f"frame, {_UNITS[base]}")
         for patch in PATCHES:
             for base in PATCH_OUTPUTS:
-                signal(f"{base}_{patch}", Fmi2Causality.output,
-                       f"{base} of the {_PATCH_TEXT[patch]} patch, {_UNITS[base]}")
+                self._signal(f"{base}_{patch}", Fmi2Causality.output,
+                             f"{base} of the {_PATCH_TEXT[patch]} patch, {_UNITS[base]}")
         for name, desc in extra_outputs:
-            signal(name, Fmi2Causality.output, desc)
-        self._model = None
+            self._signal(name, Fmi2Causality.output, desc)
 
     def _model_params(self) -> ProfileParams:
         p = self.params()
@@ -144,7 +130,8 @@ class CurvingProfileWheelset(TangentTrackProfileWheelset):
         Fmi2Slave.__init__(self, **kwargs)
         params = [(n, self._DEFAULTS.get(n, d), doc) for n, d, doc in param_fields(ProfileParams)]
         init = [(n, self._DEFAULTS.get(n, d), doc) for n, d, doc in INITIAL_STATE]
-        self._declare(params + init, OTHER_OUTPUTS + (("kappa", "track curvature, 1/m"),))
+        self._declare_patches(params + init,
+                              OTHER_OUTPUTS + (("kappa", "track curvature, 1/m"),))
 
     def _update_outputs(self):
         super()._update_outputs()

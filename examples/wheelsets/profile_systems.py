@@ -104,9 +104,9 @@ def centred_contact(table, axle_load: float = 100e3) -> dict[str, float]:
 
 def lateral_time_constant(table, V: float, m: float = 1500.0, I_z: float = 800.0,
                           axle_load: float = 100e3) -> float:
-    """τ = min(mV/2f22, I_zV/2f11b0²) of the centred contact (``systems``), s."""
+    """``systems.lateral_time_constant`` of the centred contact, s."""
     c = centred_contact(table, axle_load)
-    return min(m * V / (2 * c["f22"]), I_z * V / (2 * c["f11"] * c["b0"] ** 2))
+    return systems.lateral_time_constant(V, m, I_z, c["b0"], c)
 
 
 #: Largest communication step of the real-profile runs, s: a flange impact changes the flange

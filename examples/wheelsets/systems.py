@@ -82,8 +82,10 @@ def creep_coefficients_f(N: float = 50e3, r0: float = 0.46, R_rail: float = 0.3,
 
 
 def lateral_time_constant(V: float, m: float = 1500.0, I_z: float = 800.0, b0: float = 0.75,
-                          **contact) -> float:
-    f = creep_coefficients_f(**contact)
+                          f: Mapping[str, float] | None = None, **contact) -> float:
+    """τ = min(m V / (2 f22), I_z V / (2 f11 b0²)) (module docstring), s, with the creep
+    coefficients ``f`` (None: :func:`creep_coefficients_f` of ``contact``)."""
+    f = f or creep_coefficients_f(**contact)
     return min(m * V / (2 * f["f22"]), I_z * V / (2 * f["f11"] * b0 ** 2))
 
 

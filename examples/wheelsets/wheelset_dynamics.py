@@ -107,6 +107,45 @@ def _p(default: float, doc: str):
     return field(default=default, metadata={"doc": doc})
 
 
+def check_params(params, positive: tuple[str, ...] = (),
+                 non_negative: tuple[str, ...] = ()) -> None:
+    """``ValueError`` naming the first field of ``params`` out of its range: of ``positive``
+    outside 0 < v < inf, then of ``non_negative`` outside 0 <= v < inf, then a curve radius
+    ``R`` (if ``params`` has one) of 0 or NaN."""
+    for name in positive:
+        v = getattr(params, name)
+        if not (math.isfinite(v) and v > 0.0):
+            raise ValueError(f"{name}={v!r} is out of range: allowed 0 < {name} < inf")
+    for name in non_negative:
+        v = getattr(params, name)
+        if not (math.isfinite(v) and v >= 0.0):
+            raise ValueError(f"{name}={v!r} is out of range: allowed 0 <= {name} < inf")
+    R = getattr(params, "R", math.inf)
+    if R == 0.0 or math.isnan(R):
+        raise ValueError(f"R={R!r} is out of range: allowed |R| > 0 (inf: tangent track)")
+
+
+def rk4(f, t: float, x: tuple[float, ...], h: float, max_substep: float,
+        inputs=None) -> tuple[float, ...]:
+    """The state ``x`` at ``t + h`` of x' = f(t, x, u): classical Runge-Kutta (4th order) in
+    ``ceil(h / max_substep)`` equal substeps. ``inputs(t, dt)``: u at the start, the middle and
+    the end of the substep of length dt from t (None: u is None throughout, inputs held)."""
+    n = max(1, math.ceil(h / max_substep - 1e-9))
+    dt = h / n
+    u0 = u1 = u2 = None
+    for _ in range(n):
+        if inputs is not None:
+            u0, u1, u2 = inputs(t, dt)
+        k1 = f(t, x, u0)
+        k2 = f(t + 0.5 * dt, tuple(a + 0.5 * dt * b for a, b in zip(x, k1)), u1)
+        k3 = f(t + 0.5 * dt, tuple(a + 0.5 * dt * b for a, b in zip(x, k2)), u1)
+        k4 = f(t + dt, tuple(a + dt * b for a, b in zip(x, k3)), u2)
+        x = tuple(a + dt / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4)
+                  for a, b1, b2, b3, b4 in zip(x, k1, k2, k3, k4))
+        t += dt
+    return x
+
+
 #: Names of the contact-side signals of a wheelset model, per contact (L, R).
 CONTACT_OUTPUTS = ("xi", "eta", "phi", "N")
 CONTACT_INPUTS = ("Fx", "Fy", "Mz")
@@ -137,17 +176,9 @@ class LateralParams:
     max_substep: float = _p(5e-4, "largest RK4 substep inside one communication step, s")
 
     def check(self) -> None:
-        for name in ("V", "r0", "b0", "m", "I_z", "max_substep"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0.0):
-                raise ValueError(f"{name}={v!r} is out of range: allowed 0 < {name} < inf")
-        for name in ("conicity", "axle_load", "k_y", "k_psi", "c_y", "c_psi", "flange_gap",
-                     "k_flange", "L_transition"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0.0):
-                raise ValueError(f"{name}={v!r} is out of range: allowed 0 <= {name} < inf")
-        if self.R == 0.0 or math.isnan(self.R):
-            raise ValueError(f"R={self.R!r} is out of range: allowed |R| > 0 (inf: tangent track)")
+        check_params(self, ("V", "r0", "b0", "m", "I_z", "max_substep"),
+                     ("conicity", "axle_load", "k_y", "k_psi", "c_y", "c_psi", "flange_gap",
+                      "k_flange", "L_transition"))
 
 
 @dataclass
@@ -158,11 +189,13 @@ class LateralState:
     dpsi: float = _p(0.0, "yaw rate, rad/s")
 
 
-class LateralWheelset:
-    """Wheelset with lateral and yaw freedom on tangent track or in a curve (see module doc)."""
+class YawWheelset:
+    """What the wheelsets with lateral and yaw freedom share (the conical one,
+    :class:`LateralWheelset`, and the real-profile one of ``profile_dynamics``): parameters
+    ``p`` (with ``V``, ``R``, ``L_transition``), the states y, ψ, ẏ, ψ̇ (``s``) at time ``t``,
+    the track's curvature and the state as data."""
 
-    def __init__(self, params: LateralParams, state: LateralState | None = None,
-                 t0: float = 0.0) -> None:
+    def __init__(self, params, state: LateralState | None = None, t0: float = 0.0) -> None:
         params.check()
         self.p = params
         self.s = state or LateralState()
@@ -184,6 +217,19 @@ class LateralWheelset:
             return 0.0, 0.0
         rate = self.kappa_end / p.L_transition
         return rate * s, rate * p.V
+
+    def state_values(self) -> dict[str, float]:
+        """The state (time and the four states) as name -> float."""
+        s = self.s
+        return {"t": self.t, "y": s.y, "psi": s.psi, "vy": s.vy, "dpsi": s.dpsi}
+
+    def set_state_values(self, values: dict[str, float]) -> None:
+        self.t = values["t"]
+        self.s = LateralState(values["y"], values["psi"], values["vy"], values["dpsi"])
+
+
+class LateralWheelset(YawWheelset):
+    """Wheelset with lateral and yaw freedom on tangent track or in a curve (see module doc)."""
 
     # -- kinematics ------------------------------------------------------------------------------
     def creepages(self) -> dict[str, float]:
@@ -208,8 +254,10 @@ class LateralWheelset:
         return -math.copysign(p.k_flange * excess, y)
 
     # -- dynamics --------------------------------------------------------------------------------
-    def _deriv(self, t, y, psi, vy, dpsi, fy, mz):
+    def _deriv(self, t, x, forces):
         p = self.p
+        y, psi, vy, dpsi = x
+        fy, mz = forces
         _, dkappa = self.curvature(t)
         ay = (fy - p.k_y * y - p.c_y * vy + self.flange_force(y)) / p.m
         apsi = (mz - p.k_psi * psi - p.c_psi * dpsi) / p.I_z - p.V * dkappa
@@ -230,38 +278,16 @@ class LateralWheelset:
             dFx_L, dFy_L, dMz_L, dFx_R, dFy_R, dMz_R = rates
             dfy = dFy_L + dFy_R
             dmz = p.b0 * (dFx_L - dFx_R) + dMz_L + dMz_R
-        n = max(1, math.ceil(h / p.max_substep - 1e-9))
-        dt = h / n
-        y, psi, vy, dpsi, t = s.y, s.psi, s.vy, s.dpsi, self.t
-        t0 = t
-        f = self._deriv
-        for _ in range(n):
+        t0 = self.t
+
+        def forces(t, dt):             # at the substep's start, middle and end
             fy0, mz0 = fy + dfy * (t - t0), mz + dmz * (t - t0)
-            fy1, mz1 = fy0 + 0.5 * dt * dfy, mz0 + 0.5 * dt * dmz
-            fy2, mz2 = fy0 + dt * dfy, mz0 + dt * dmz
-            k1 = f(t, y, psi, vy, dpsi, fy0, mz0)
-            k2 = f(t + 0.5 * dt, y + 0.5 * dt * k1[0], psi + 0.5 * dt * k1[1],
-                   vy + 0.5 * dt * k1[2], dpsi + 0.5 * dt * k1[3], fy1, mz1)
-            k3 = f(t + 0.5 * dt, y + 0.5 * dt * k2[0], psi + 0.5 * dt * k2[1],
-                   vy + 0.5 * dt * k2[2], dpsi + 0.5 * dt * k2[3], fy1, mz1)
-            k4 = f(t + dt, y + dt * k3[0], psi + dt * k3[1], vy + dt * k3[2], dpsi + dt * k3[3],
-                   fy2, mz2)
-            y += dt / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0])
-            psi += dt / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])
-            vy += dt / 6.0 * (k1[2] + 2.0 * k2[2] + 2.0 * k3[2] + k4[2])
-            dpsi += dt / 6.0 * (k1[3] + 2.0 * k2[3] + 2.0 * k3[3] + k4[3])
-            t += dt
-        s.y, s.psi, s.vy, s.dpsi = y, psi, vy, dpsi
+            return ((fy0, mz0), (fy0 + 0.5 * dt * dfy, mz0 + 0.5 * dt * dmz),
+                    (fy0 + dt * dfy, mz0 + dt * dmz))
+
+        s.y, s.psi, s.vy, s.dpsi = rk4(self._deriv, t0, (s.y, s.psi, s.vy, s.dpsi), h,
+                                       p.max_substep, forces)
         self.t += h
-
-    def state_values(self) -> dict[str, float]:
-        """The state (time and the four states) as name -> float."""
-        s = self.s
-        return {"t": self.t, "y": s.y, "psi": s.psi, "vy": s.vy, "dpsi": s.dpsi}
-
-    def set_state_values(self, values: dict[str, float]) -> None:
-        self.t = values["t"]
-        self.s = LateralState(values["y"], values["psi"], values["vy"], values["dpsi"])
 
 
 # ------------------------------------------------------------------------------------------------
@@ -282,17 +308,11 @@ class DrivenParams:
                       "max(|V|, V_reg)")
 
     def check(self) -> None:
-        for name in ("r0", "I_y", "V_reg"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0.0):
-                raise ValueError(f"{name}={v!r} is out of range: allowed 0 < {name} < inf")
+        check_params(self, ("r0", "I_y", "V_reg"))
         if not (math.isfinite(self.V) and (self.V > 0.0 or self.m_vehicle > 0.0 and self.V >= 0.0)):
             raise ValueError(f"V={self.V!r} is out of range: allowed 0 < V < inf (0 <= V with "
                              "m_vehicle > 0)")
-        for name in ("axle_load", "m_vehicle"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0.0):
-                raise ValueError(f"{name}={v!r} is out of range: allowed 0 <= {name} < inf")
+        check_params(self, non_negative=("axle_load", "m_vehicle"))
 
 
 class DrivenWheelset:

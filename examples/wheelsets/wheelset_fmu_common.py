@@ -54,6 +54,27 @@ class WheelsetSlaveBase(Fmi2Slave):
     version = "0.1.0"
 
     def _declare(self, parameters, extra_inputs=(), extra_outputs=()):
+        """Register the parameters, the two contacts' inputs (with their rates) and outputs,
+        and ``extra_inputs``, ``extra_outputs`` ((name, description) pairs)."""
+        self._declare_parameters(parameters)
+        for causality, per_contact, extra in ((Fmi2Causality.input, CONTACT_INPUTS, extra_inputs),
+                                              (Fmi2Causality.output, CONTACT_OUTPUTS, extra_outputs)):
+            for side in ("L", "R"):
+                for base, _unit, desc in per_contact:
+                    self._signal(f"{base}_{side}", causality, f"{desc}, {side} contact")
+            if causality == Fmi2Causality.input:
+                for side in ("L", "R"):
+                    for base, unit, _desc in per_contact:
+                        self._signal(f"{base}_{side}_rate", causality,
+                                     f"rate of {base}_{side} over the step, {unit}/s: the model "
+                                     f"applies {base}_{side} + {base}_{side}_rate (t - t_k) "
+                                     "(0: held)")
+            for name, desc in extra:
+                self._signal(name, causality, desc)
+
+    def _declare_parameters(self, parameters):
+        """Register the parameters, from (name, default, description); the model is made when
+        initialisation ends."""
         self._param_names = []
         for name, default, desc in parameters:
             setattr(self, name, float(default))
@@ -61,26 +82,13 @@ class WheelsetSlaveBase(Fmi2Slave):
             self.register_variable(Real(name, causality=Fmi2Causality.parameter,
                                         variability=Fmi2Variability.fixed,
                                         initial=Fmi2Initial.exact, description=desc))
-
-        def signal(name, causality, desc):
-            setattr(self, name, 0.0)
-            self.register_variable(Real(name, causality=causality,
-                                        variability=Fmi2Variability.continuous, description=desc))
-
-        for causality, per_contact, extra in ((Fmi2Causality.input, CONTACT_INPUTS, extra_inputs),
-                                              (Fmi2Causality.output, CONTACT_OUTPUTS, extra_outputs)):
-            for side in ("L", "R"):
-                for base, _unit, desc in per_contact:
-                    signal(f"{base}_{side}", causality, f"{desc}, {side} contact")
-            if causality == Fmi2Causality.input:
-                for side in ("L", "R"):
-                    for base, unit, _desc in per_contact:
-                        signal(f"{base}_{side}_rate", causality,
-                               f"rate of {base}_{side} over the step, {unit}/s: the model "
-                               f"applies {base}_{side} + {base}_{side}_rate (t - t_k) (0: held)")
-            for name, desc in extra:
-                signal(name, causality, desc)
         self._model = None
+
+    def _signal(self, name, causality, desc):
+        """Register a continuous Real input or output (0 until set)."""
+        setattr(self, name, 0.0)
+        self.register_variable(Real(name, causality=causality,
+                                    variability=Fmi2Variability.continuous, description=desc))
 
     def to_xml(self, model_options=dict()):
         root = super().to_xml(model_options)
