@@ -25,6 +25,10 @@ GALLERY = (
     ("adhesion_curve.png", "python examples/adhesion.py"),
     ("adhesion_runs.png", "python examples/adhesion.py"),
     ("contact_geometry.png", "python examples/contact_geometry.py"),
+    ("real_profile_hunting.png", "python examples/run_real_profiles.py"),
+    ("real_profile_bifurcation.png", "python examples/run_real_profiles.py"),
+    ("real_profile_curving.png", "python examples/run_real_profiles.py"),
+    ("implicit_coupling.png", "python examples/run_implicit_coupling.py"),
 )
 
 
