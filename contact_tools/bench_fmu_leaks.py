@@ -9,10 +9,13 @@ binary), in a fresh process each:
   message, logging on), after 5000 such steps to warm up;
 * instantiate/step/free cycles: ``N`` cycles of instantiate, initialise, one step, free (fmpy
   unloads the library each time), after 100 cycles to warm up; then ``N`` more (the heap has
-  settled by then: growth there would be a leak per cycle).
+  settled by then: growth there would be a leak per cycle);
+* the same ``N`` cycles again, each taking 20 FMU states (``fmi2GetFMUstate``) that it leaves to
+  ``fmi2FreeInstance`` to free (FMI 2.0 sec. 2.1.6), with the size of one state.
 
 Prints the growth of the resident set size (RSS, /proc/self/statm) over the measured part.
-The targets: at most 2 MB over 1e5 refused steps and 3 MB over 300 cycles.
+The targets: at most 2 MB over 1e5 refused steps and 3 MB over 300 cycles, with or without the
+states.
 """
 from __future__ import annotations
 
@@ -25,6 +28,8 @@ import sys
 import tempfile
 
 WARM_REFUSED, WARM_CYCLES = 5000, 100
+#: FMU states taken and left unfreed in each cycle of the third measurement.
+STATES = 20
 
 
 def rss_mb() -> float:
@@ -59,10 +64,12 @@ def measure(path: str, refused: int, cycles: int) -> dict:
     out["refused_messages"] = inst.counts[2] + inst.counts[3]
     inst.free()
 
-    def cycle(n):
+    def cycle(n, states=0):
         for k in range(n):
             j = FmuInstance(path, f"cycle{k}")
             j.step(xi=1e-3, N=1e5)
+            for _ in range(states):     # left to fmi2FreeInstance
+                j.fmu.getFMUstate()
             j.free()
 
     try:
@@ -76,6 +83,13 @@ def measure(path: str, refused: int, cycles: int) -> dict:
         cycle(cycles)
         gc.collect()
         out["cycles_next_mb"] = rss_mb() - r0
+        j = FmuInstance(path, "state size")
+        out["state_bytes"] = len(j.fmu.serializeFMUstate(j.fmu.getFMUstate()))
+        j.free()
+        r0 = rss_mb()
+        cycle(cycles, STATES)
+        gc.collect()
+        out["states_mb"] = rss_mb() - r0
     except Exception as e:  # pythonfmu 0.7's binary: fmi2Instantiate fails after a few cycles
         out["cycles_error"] = f"{type(e).__name__}: {e}"
     return out
@@ -111,13 +125,16 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     print(f"RSS growth, traction FMU in fmpy ({a.refused} refused steps with logging on; "
           f"{a.cycles} instantiate/step/free cycles)\n")
-    print("| FMU binary | refused steps | cycles | next cycles |")
-    print("|---|---:|---:|---:|")
+    print(f"| FMU binary | refused steps | cycles | next cycles | cycles, {STATES} states each "
+          "left unfreed |")
+    print("|---|---:|---:|---:|---:|")
     for wrapper, r in results.items():
         refused = f"{r['refused_mb']:.2f} MB" if "refused_mb" in r else r.get("crashed", "")
         cycles = (f"{r['cycles_mb']:.2f} MB | {r['cycles_next_mb']:.2f} MB" if "cycles_mb" in r
                   else r.get("cycles_error", r.get("crashed", "")) + " |")
-        print(f"| {wrapper} | {refused} | {cycles} |")
+        states = (f"{r['states_mb']:.2f} MB ({r['state_bytes']} bytes per state)"
+                  if "states_mb" in r else "")
+        print(f"| {wrapper} | {refused} | {cycles} | {states} |")
     return 0
 
 

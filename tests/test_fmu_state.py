@@ -8,9 +8,11 @@ import json
 import math
 import pickle
 import struct
+from ctypes import byref
 
 import pytest
 from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import fmi2FMUstate
 
 import contact_core as cc
 from conftest import options_for
@@ -52,6 +54,36 @@ def test_state_round_trip_is_exact(fmus, method):
         assert run(b, INPUTS[2:]) == first
         b.fmu.freeFMUstate(b_state)
         a.fmu.freeFMUstate(state)
+
+
+def test_a_state_pointer_the_instance_does_not_own_is_refused(fmus):
+    """FMI 2.0 sec. 2.1.8: a state belongs to the instance that gave it. A pointer the instance
+    does not own (another instance's state, one already freed) is refused with fmi2Error and a
+    message, and never dereferenced: a second fmi2FreeFMUstate, or fmi2SetFMUstate of a freed
+    state, no longer touches freed memory. The owner's state is left as it was."""
+    with FmuInstance(fmus["full"], "a", {"method": "linear"}) as a, \
+            FmuInstance(fmus["full"], "b", {"method": "linear"}) as b:
+        run(a, INPUTS[:1])
+        state = a.fmu.getFMUstate()
+        copy = fmi2FMUstate(state.value)
+        after = run(a, INPUTS[1:2])
+        for call in (b.fmu.setFMUstate, b.fmu.serializeFMUstate, b.fmu.freeFMUstate):
+            with pytest.raises(FMICallException):
+                call(copy)
+            assert "is not one of this instance's" in b.errors()[-1]
+        a.fmu.setFMUstate(state)                     # still a's, intact
+        assert run(a, INPUTS[1:2]) == after
+        a.fmu.freeFMUstate(state)
+        assert state.value is None
+        for call in (a.fmu.setFMUstate, a.fmu.serializeFMUstate, a.fmu.freeFMUstate):
+            with pytest.raises(FMICallException):
+                call(copy)                           # freed
+            assert "is not one of this instance's" in a.errors()[-1]
+        over = fmi2FMUstate(copy.value)              # a state to overwrite: only its own
+        with pytest.raises(FMICallException):
+            a.fmu.fmi2GetFMUstate(a.fmu.component, byref(over))
+        assert over.value == copy.value
+        assert run(a, INPUTS[1:2]) == after          # the instance works on
 
 
 def test_state_restores_parameters_and_mode(fmus):

@@ -35,6 +35,10 @@
  *    was built with (WRC_PYTHON_EXECUTABLE, e.g. a virtual environment) as its executable, so it
  *    finds that environment's packages;
  *  - the optional slave method _check_fmu_state(state) validates a deserialized state;
+ *  - the instance owns the FMU states it gives out (fmi2GetFMUstate, fmi2DeSerializeFMUstate),
+ *    by address, until fmi2FreeFMUstate or fmi2FreeInstance (FMI 2.0 sec. 2.1.6: freeing an
+ *    instance frees all it allocated). A state pointer it does not own (another instance's, one
+ *    already freed, garbage) is refused with fmi2Error and never dereferenced;
  *  - fmi2GetRealStatus(fmi2LastSuccessfulTime) returns the slave's last_successful_time(), so
  *    that the time is part of the slave's FMU state and fmi2SetFMUstate restores it;
  *  - fmi2GetDirectionalDerivative calls the slave's optional method
@@ -143,6 +147,7 @@ typedef struct {
     PyObject *kwargs;  /* its constructor arguments (again at fmi2Reset) */
     PyObject *slave;   /* the instance */
     PyObject *strings; /* list of bytes: what the last fmi2GetString returned points into */
+    PyObject *states;  /* dict: the address (int) of each FMU state given out -> the state */
     int fast;          /* the slave's buffers below are held (values set and read directly) */
     Py_buffer reals;   /* _fmi_reals: doubles by value reference */
     Py_buffer flags;   /* _fmi_flags: FAST_* per value reference, then the outputs' freshness */
@@ -450,13 +455,14 @@ static int fast_get(Instance *in, const fmi2ValueReference vr[], size_t nvr, fmi
 
 static void free_instance(Instance *in) {
     if (in == NULL) return;
-    if (Py_IsInitialized() && (in->slave || in->cls || in->kwargs || in->strings)) {
+    if (Py_IsInitialized() && (in->slave || in->cls || in->kwargs || in->strings || in->states)) {
         PyGILState_STATE g = PyGILState_Ensure();
         unbind_fast(in);
         Py_CLEAR(in->slave);
         Py_CLEAR(in->cls);
         Py_CLEAR(in->kwargs);
         Py_CLEAR(in->strings);
+        Py_CLEAR(in->states); /* the states the host did not free */
         PyGILState_Release(g);
     }
     free(in->name);
@@ -731,21 +737,59 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 }
 
 /* ------------------------------------------------------------------------------------------ */
-/* FMU state: a Python object owned by the host's handle                                       */
+/* FMU state: a Python object owned by the instance (in->states) until freed                   */
 /* ------------------------------------------------------------------------------------------ */
+
+/* Whether the instance gave out `state` and has not freed it (GIL held); if not, logs why. The
+   pointer is only compared, never dereferenced. */
+static int owns_state(Instance *in, fmi2FMUstate state, const char *where) {
+    PyObject *key = PyLong_FromVoidPtr(state);
+    int owned = key && in->states ? PyDict_Contains(in->states, key) : 0;
+    Py_XDECREF(key);
+    PyErr_Clear();
+    if (owned == 1) return 1;
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s: the FMU state %p is not one of this instance's: allowed a "
+             "state of its fmi2GetFMUstate or fmi2DeSerializeFMUstate not yet freed", where, state);
+    log_text(in, fmi2Error, NULL, buf);
+    return 0;
+}
+
+/* The instance keeps the new state `st` (a new reference, taken over); 0, or -1 with a Python
+   error (st released). */
+static int keep_state(Instance *in, PyObject *st) {
+    PyObject *key = PyLong_FromVoidPtr(st);
+    if (in->states == NULL) in->states = PyDict_New();
+    int r = key && in->states ? PyDict_SetItem(in->states, key, st) : -1;
+    Py_XDECREF(key);
+    Py_DECREF(st); /* the dict's reference is the only one */
+    return r;
+}
+
+/* The instance frees the state it owns (GIL held). */
+static void drop_state(Instance *in, fmi2FMUstate state) {
+    PyObject *key = PyLong_FromVoidPtr(state);
+    if (key && PyDict_DelItem(in->states, key) < 0) PyErr_Clear();
+    Py_XDECREF(key);
+}
 
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state) {
     Instance *in = c;
     if (bad_call(in, "fmi2GetFMUstate", state, state, 1)) return fmi2Error;
     PyGILState_STATE g = PyGILState_Ensure();
-    PyObject *r = CALL(in, "_get_fmu_state", NULL);
     fmi2Status s;
-    if (r == NULL) {
-        s = report_exception(in, "fmi2GetFMUstate");
+    /* FMI 2.0 sec. 2.1.8: a given state (this instance's) is overwritten */
+    if (*state != NULL && !owns_state(in, *state, "fmi2GetFMUstate")) {
+        s = fmi2Error;
     } else {
-        Py_XDECREF((PyObject *)*state); /* FMI 2.0 sec. 2.1.8: a given state is overwritten */
-        *state = r;
-        s = drain_log(in);
+        PyObject *r = CALL(in, "_get_fmu_state", NULL);
+        if (r == NULL || keep_state(in, r) < 0) {
+            s = report_exception(in, "fmi2GetFMUstate");
+        } else {
+            if (*state != NULL) drop_state(in, *state);
+            *state = r;
+            s = drain_log(in);
+        }
     }
     PyGILState_Release(g);
     return s;
@@ -755,21 +799,27 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state) {
     Instance *in = c;
     if (bad_call(in, "fmi2SetFMUstate", state, state, 1)) return fmi2Error;
     PyGILState_STATE g = PyGILState_Ensure();
-    fmi2Status s = finish(in, CALL(in, "_set_fmu_state", "(O)", (PyObject *)state),
-                          "fmi2SetFMUstate");
+    fmi2Status s = owns_state(in, state, "fmi2SetFMUstate")
+        ? finish(in, CALL(in, "_set_fmu_state", "(O)", (PyObject *)state), "fmi2SetFMUstate")
+        : fmi2Error;
     PyGILState_Release(g);
     return s;
 }
 
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *state) {
-    if (c == NULL || state == NULL) return fmi2Error;
-    if (*state != NULL) {
-        PyGILState_STATE g = PyGILState_Ensure();
-        Py_DECREF((PyObject *)*state);
-        PyGILState_Release(g);
+    Instance *in = c;
+    if (in == NULL || state == NULL) return fmi2Error;
+    if (*state == NULL) return fmi2OK;
+    if (!Py_IsInitialized()) return fmi2Error;
+    PyGILState_STATE g = PyGILState_Ensure();
+    fmi2Status s = fmi2Error;
+    if (owns_state(in, *state, "fmi2FreeFMUstate")) {
+        drop_state(in, *state);
         *state = NULL;
+        s = fmi2OK;
     }
-    return fmi2OK;
+    PyGILState_Release(g);
+    return s;
 }
 
 /* The serialized bytes of a state (new reference to a bytes object, or NULL with an error). */
@@ -787,6 +837,10 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_
     Instance *in = c;
     if (bad_call(in, "fmi2SerializedFMUstateSize", state, size, 1)) return fmi2Error;
     PyGILState_STATE g = PyGILState_Ensure();
+    if (!owns_state(in, state, "fmi2SerializedFMUstateSize")) {
+        PyGILState_Release(g);
+        return fmi2Error;
+    }
     PyObject *b = state_bytes(in, state);
     if (b) *size = (size_t)PyBytes_GET_SIZE(b);
     fmi2Status s = finish(in, b, "fmi2SerializedFMUstateSize");
@@ -799,6 +853,10 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte s
     Instance *in = c;
     if (bad_call(in, "fmi2SerializeFMUstate", state, serializedState, 1)) return fmi2Error;
     PyGILState_STATE g = PyGILState_Ensure();
+    if (!owns_state(in, state, "fmi2SerializeFMUstate")) {
+        PyGILState_Release(g);
+        return fmi2Error;
+    }
     PyObject *b = state_bytes(in, state);
     if (b && (size_t)PyBytes_GET_SIZE(b) != size) { /* the host's mistake: say so */
         char buf[256];
@@ -822,6 +880,11 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
     Instance *in = c;
     if (bad_call(in, "fmi2DeSerializeFMUstate", serializedState, state, 1)) return fmi2Error;
     PyGILState_STATE g = PyGILState_Ensure();
+    /* as fmi2GetFMUstate, a given state (this instance's) is overwritten */
+    if (*state != NULL && !owns_state(in, *state, "fmi2DeSerializeFMUstate")) {
+        PyGILState_Release(g);
+        return fmi2Error;
+    }
     PyObject *b = PyBytes_FromStringAndSize(serializedState, (Py_ssize_t)size);
     PyObject *st = b ? CALL(in, "_fmu_state_from_bytes", "(O)", b) : NULL;
     Py_XDECREF(b);
@@ -831,9 +894,10 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
         Py_XDECREF(ok);
     }
     fmi2Status s;
-    if (st == NULL) {
+    if (st == NULL || keep_state(in, st) < 0) {
         s = report_exception(in, "fmi2DeSerializeFMUstate");
     } else {
+        if (*state != NULL) drop_state(in, *state);
         *state = st;
         s = drain_log(in);
     }
