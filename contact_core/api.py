@@ -4,7 +4,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any, Iterable
 
-from .base import ContactMethod
+from .base import ContactMethod, refuse_speed
 from .cache import register
 from .effects import Effects, as_effects
 from .exact import Exact
@@ -116,8 +116,7 @@ def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float
         solver = _cached_solver(method, effects, friction, options)
     if jacobian:
         if V and solver.friction is None:
-            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
-                             "selected: allowed None or 0, or select the effect")
+            refuse_speed(V)
         r = (solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
              if solver.friction is None else
              solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start, 0.0 if V is None else V))
@@ -126,8 +125,6 @@ def solve(method: str, *, xi: float, eta: float, phi: float, N: float, mu: float
     if V is None:
         return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
     if solver.friction is None:
-        if V:
-            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
-                             "selected: allowed None or 0, or select the effect")
+        refuse_speed(V)
         return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start)
     return solver.step(xi, eta, phi, N, mu, a, b, G, nu, warm_start, V)

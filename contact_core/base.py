@@ -180,6 +180,14 @@ def _speed(V: Any) -> float:
                      "given)")
 
 
+def refuse_speed(V: Any) -> None:
+    """A rolling speed V given without the effect 'falling_friction': a ``ValueError`` unless
+    it is 0 (then unused)."""
+    if V:
+        raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
+                         "selected: allowed None or 0, or select the effect")
+
+
 def _falling_law(effects: Effects, friction: Any) -> FrictionLaw | None:
     """The friction law of a method for ``effects`` (None without 'falling_friction')."""
     if not effects.falling_friction:

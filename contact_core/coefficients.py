@@ -100,6 +100,19 @@ def _polynomial_pieces(splines: tuple[RectBivariateSpline, ...]) -> tuple[list[f
 
 
 _RATIOS, _NUS, _TABLE = _load_table()
+
+
+def tabulated(nu: float) -> list[tuple[float, tuple[float, float, float, float]]]:
+    """Kalker's Table E.3 as shipped (no interpolation): (a/b, (C11, C22, C23, C33)) of every
+    tabulated a/b, ascending, at the Poisson ratio ``nu``, which must be one of the table's
+    (else a ``ValueError`` naming them). For comparisons against the table itself."""
+    j = np.flatnonzero(_NUS == nu)
+    if j.size != 1:
+        raise ValueError(f"nu={nu!r} is not tabulated: allowed {', '.join(map(str, _NUS))}")
+    return [(float(ab), tuple(float(c) for c in _TABLE[:, i, j[0]]))
+            for i, ab in enumerate(_RATIOS)]
+
+
 _BREAKS, _PIECES = _polynomial_pieces(tuple(
     RectBivariateSpline(np.log(_RATIOS), _NUS, np.log(_TABLE[k]), kx=3, ky=2, s=0)
     for k in range(4)))

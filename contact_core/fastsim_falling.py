@@ -43,7 +43,7 @@ import math
 from typing import Any, Callable
 
 from . import fastsim as _fastsim
-from .friction import ratio_and_slope_of, ratio_of
+from .friction import memory_step, ratio_and_slope_of, ratio_of
 
 # fastsim's compiled kernels, bound by kernel()
 _onto_bound: Callable | None = None
@@ -54,6 +54,7 @@ _record: Callable | None = None
 _totals: Callable | None = None
 _ratio: Callable | None = None
 _ratio_slope: Callable | None = None
+_memory_step: Callable | None = None
 
 
 def _phi(r: float, hx: float, hy: float, gs: float, r21: float, slip_per_traction: float,
@@ -75,11 +76,7 @@ def _phi(r: float, hx: float, hy: float, gs: float, r21: float, slip_per_tractio
         dx = qx - hx
         dy = qy - hy
     s = slip_per_traction * math.sqrt(dx * dx + (r21 * dy) * (r21 * dy))   # m/s
-    rho = _ratio(law, s)
-    if theta_num > 0.0:
-        theta = theta_num / (theta_num + dt_per_v * max(s, law[7]))
-        return theta * mu_up + (1.0 - theta) * rho
-    return rho
+    return _memory_step(mu_up, _ratio(law, s), s, theta_num, dt_per_v, law[7])
 
 
 def _slip_ratio_radial(n: float, gs: float, c: float, law: Any, guess: float) -> float:
@@ -194,10 +191,7 @@ def _march_falling(a: float, b: float, xi: float, eta: float, phi: float, k1: fl
             px, py = _predict(tx[j], ty[j], wxs[j], x, h, ey, eta, k2, phi, k3, spin_at)
             gs = gss[j] * profile[i]
             dt_per_v = h / speed             # time to cross the step, per unit slip velocity
-            mu_stick = 1.0
-            if memory > 0.0:
-                th = memory / (memory + dt_per_v * s0)
-                mu_stick = th * mu_up + (1.0 - th)
+            mu_stick = _memory_step(mu_up, 1.0, 0.0, memory, dt_per_v, s0)   # sticking: ρ(0) = 1
             slip = False
             g = mu_stick * gs
             n2 = px * px + py * py
@@ -233,7 +227,7 @@ _KERNEL: Callable | None = None
 
 def kernel() -> Callable:
     """The numba-compiled :func:`_march_falling` (compiled on first use; cached on disk)."""
-    global _KERNEL, _ratio, _ratio_slope, _phi, _slip_ratio_radial, _slip_ratio
+    global _KERNEL, _ratio, _ratio_slope, _memory_step, _phi, _slip_ratio_radial, _slip_ratio
     global _onto_bound, _strips, _predict, _settle, _record, _totals
     if _KERNEL is None:
         import numba
@@ -244,6 +238,7 @@ def kernel() -> Callable:
             _fastsim._record, _fastsim._totals)
         _ratio = jit(ratio_of)
         _ratio_slope = jit(ratio_and_slope_of)
+        _memory_step = jit(memory_step)
         _phi = jit(_phi)
         _slip_ratio_radial = jit(_slip_ratio_radial)
         _slip_ratio = jit(_slip_ratio)

@@ -72,7 +72,9 @@ class FrictionLaw:
     memory: float = 0.0
     memory_speed: float = 0.0
 
-    _RANGES: ClassVar[dict[str, tuple[float, float, bool, bool, str]]] = {
+    #: Each parameter's allowed interval (lo, hi, lo open, hi open, what it is), also that of
+    #: the FMU parameters of the law (:data:`contact_core.variables.VARIABLES`).
+    RANGES: ClassVar[dict[str, tuple[float, float, bool, bool, str]]] = {
         "kinetic": (0.0, 1.0, False, False, "kinetic over static friction coefficient"),
         "s_half": (0.0, math.inf, True, True, "slip velocity halving the falling part, m/s"),
         "second": (0.0, 1.0, False, False, "share of the falling part in the second term"),
@@ -85,7 +87,7 @@ class FrictionLaw:
         if not isinstance(self.kind, str) or self.kind not in KINDS:
             raise ValueError(f"kind={self.kind!r} is invalid: allowed "
                              + " or ".join(repr(k) for k in KINDS))
-        for name, (lo, hi, lo_open, hi_open, what) in self._RANGES.items():
+        for name, (lo, hi, lo_open, hi_open, what) in self.RANGES.items():
             v = getattr(self, name)
             ok = (isinstance(v, (int, float)) and not isinstance(v, bool) and not math.isnan(v)
                   and (lo < v if lo_open else lo <= v) and (v < hi if hi_open else v <= hi))
@@ -154,6 +156,19 @@ def ratio_of(law: tuple, s: float) -> float:
     else:
         t2 = max(0.0, 1.0 - 0.5 * u2)
     return law[1] + law[2] * t1 + law[4] * t2
+
+
+def memory_step(up: float, rho: float, s: float, d_c: float, dt_per_v: float,
+                s0: float) -> float:
+    """μ/μ_stat of an element with friction memory (CONTACT user guide, sec. "Friction memory";
+    module docstring): θ ``up`` + (1 - θ) ``rho``, θ = d_c/(d_c + (h/V) max(s, s_0)), from the
+    upstream element's ``up``, the law's ``rho`` = ρ(s) at the slip velocity ``s`` (m/s), the
+    memory distance ``d_c`` (m; 0: ``rho`` itself), ``dt_per_v`` = h/V (s) and ``s0`` = s_0
+    (m/s). Plain arithmetic: also compiled into the numba kernels."""
+    if d_c > 0.0:
+        theta = d_c / (d_c + dt_per_v * max(s, s0))
+        return theta * up + (1.0 - theta) * rho
+    return rho
 
 
 def ratio_and_slope_of(law: tuple, s: float) -> tuple[float, float]:

@@ -90,7 +90,8 @@ def held_spin_moment_derivatives(mz: float, mu_n: float, a: float,
     ``b`` (for the analytic Jacobians): (mz, 1, 0, 0, 0) where the moment is not held; where
     it is, those of the bound B = 3μN P/32 = 0.375 μN α E(m), m = 1 - (β/α)² (α >= β the
     semi-axes, E the complete elliptic integral of the second kind; dE/dm = (E - K)/(2m),
-    DLMF 19.4.1, and -π/8 - 3πm/64 for m < 1e-4, its series)."""
+    DLMF 19.4.1, and -π/8 - 3πm/64 for m < 1e-4, the derivative of the series of E, DLMF
+    19.5.2)."""
     held = held_spin_moment(mz, mu_n, a, b)
     if held == mz:
         return mz, 1.0, 0.0, 0.0, 0.0
@@ -240,7 +241,7 @@ def tabulated_patch(N: float, A: float, B: float, e_star: float) -> tuple[float,
     major = math.exp(ln_k) * (N / (e_star * small)) ** (1.0 / 3.0)
     minor = math.exp(ln_g) * major
     a, b = (major, minor) if A <= B else (minor, major)
-    return a, b, 1.5 * (N / (math.pi * a * b))      # max_pressure's arithmetic
+    return a, b, max_pressure(N, a, b)
 
 
 def tabulated_patch_derivatives(N: float, A: float, B: float,

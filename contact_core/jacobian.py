@@ -45,6 +45,8 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
+from .hertz import max_pressure
+
 #: The outputs of a method's Jacobian (rows).
 OUTPUTS = ("Fx", "Fy", "Mz", "slip_fraction")
 #: Its inputs (columns); "V" follows with the effect ``falling_friction``.
@@ -101,7 +103,7 @@ def difference_steps(method: str, values: Sequence[float], G: float,
     order of :func:`method_inputs`) for the results of ``method``."""
     xi, eta, phi, N, mu, a, b = values[:7]
     delta = RELATIVE_STEPS.get(method, DEFAULT_RELATIVE_STEP)
-    p0 = 1.5 * (N / (math.pi * a * b))
+    p0 = max_pressure(N, a, b)
     scale = (mu if saturates and mu > 0.0 else 1.0) * p0 / G
     steps = [delta * scale, delta * scale, delta * scale / math.sqrt(a * b), delta * N,
              delta * (mu if mu > 0.0 else 1.0), delta * a, delta * b]

@@ -57,6 +57,7 @@ from .cache import cached
 from .base import ContactMethod, choice_option
 from .coefficients import creep_coefficient_slopes, creep_coefficients, per_call_coefficients
 from .hertz import held_spin_moment, held_spin_moment_derivatives
+from .linear import linear_jacobian
 from .result import make_result
 
 
@@ -113,38 +114,25 @@ class JohnsonVermeulen(ContactMethod):
         from Kalker's, their slope in a/b a central difference of step 1e-4 in ln(a/b) (near
         a/b = 1 eq 11's C = (D - B)/m loses the digits of m = |1 - (a/b)^±2|: a smaller step
         sees them)."""
-        r = a / b
-        c11, c22, c23, c33 = creep_coefficients(r, nu)
-        l11, l22, l23, l33 = creep_coefficient_slopes(r, nu)
+        coefficients = slopes = None        # Kalker's
         if self._original:
-            c11, c22 = jv_creep_coefficients(r, nu)
+            r = a / b
             h = 1e-4
-            up, down = jv_creep_coefficients(r * math.exp(h), nu), \
-                jv_creep_coefficients(r * math.exp(-h), nu)
-            l11, l22 = ((math.log(u) - math.log(d)) / (2.0 * h) for u, d in zip(up, down))
+            up, down = (jv_creep_coefficients(r * math.exp(s), nu) for s in (h, -h))
+            coefficients = (*jv_creep_coefficients(r, nu), *creep_coefficients(r, nu)[2:])
+            slopes = (*((math.log(u) - math.log(d)) / (2.0 * h) for u, d in zip(up, down)),
+                      *creep_coefficient_slopes(r, nu)[2:])
         use_spin = self._use_spin
         if not use_spin:
             phi = 0.0
-        c2 = a * b
-        c = math.sqrt(c2)
-        # the linear forces and moment and their gradients by (ξ, η, φ, N, μ, a, b): each term
-        # K a^p b^q C(a/b) x has ∂/∂a = term (p + l)/a, ∂/∂b = term (q - l)/b
-        fx = -G * c2 * c11 * xi
-        d_fx = np.array([-G * c2 * c11, 0.0, 0.0, 0.0, 0.0, fx * (1.0 + l11) / a,
-                         fx * (1.0 - l11) / b])
-        t_eta, t_phi = -G * c2 * c22 * eta, -G * c2 * c * c23 * phi
-        fy = t_eta + t_phi
-        d_fy = np.array([0.0, -G * c2 * c22, -G * c2 * c * c23 if use_spin else 0.0, 0.0, 0.0,
-                         (t_eta * (1.0 + l22) + t_phi * (1.5 + l23)) / a,
-                         (t_eta * (1.0 - l22) + t_phi * (1.5 - l23)) / b])
-        mz = 0.0
-        d_mz = np.zeros(7)
-        if use_spin:
-            m_eta, m_phi = G * c2 * c * c23 * eta, -G * c2 * c2 * c33 * phi
-            mz = m_eta + m_phi
-            d_mz = np.array([0.0, G * c2 * c * c23, -G * c2 * c2 * c33, 0.0, 0.0,
-                             (m_eta * (1.5 + l23) + m_phi * (2.0 + l33)) / a,
-                             (m_eta * (1.5 - l23) + m_phi * (2.0 - l33)) / b])
+        # the linear forces and moment, linear in (ξ, η, φ), and their gradients
+        d_fx, d_fy, d_mz = linear_jacobian(xi, eta, phi, a, b, G, nu, coefficients, slopes)[:3]
+        fx = d_fx[0] * xi
+        fy = d_fy[1] * eta + d_fy[2] * phi
+        mz = d_mz[1] * eta + d_mz[2] * phi
+        if not use_spin:                    # φ ignored, no moment
+            d_fy[2] = 0.0
+            mz, d_mz = 0.0, np.zeros(7)
         eps, d_eps, d_slip = 1.0, np.zeros(7), np.zeros(7)
         sat = self.effects.saturation
         mun = mu * N

@@ -12,6 +12,7 @@ whole contact sticks, so it is **unsaturated by definition** — the forces grow
 from __future__ import annotations
 
 import math
+from typing import Sequence
 
 import numpy as np
 
@@ -101,12 +102,15 @@ class LinearTheory(ContactMethod):
 
 
 def linear_jacobian(xi: float, eta: float, phi: float, a: float, b: float, G: float,
-                    nu: float) -> np.ndarray:
+                    nu: float, coefficients: Sequence[float] | None = None,
+                    slopes: Sequence[float] | None = None) -> np.ndarray:
     """∂(Fx, Fy, Mz, slip fraction)/∂(ξ, η, φ, N, μ, a, b) of Kalker's linear theory
-    (:meth:`LinearTheory._jacobian_impl`; the slip fraction is 0)."""
+    (:meth:`LinearTheory._jacobian_impl`; the slip fraction is 0). ``coefficients``
+    (C11, C22, C23, C33) and their ``slopes`` d ln C/d ln(a/b): others than Kalker's
+    (Johnson–Vermeulen's, :mod:`.johnson_vermeulen`); None: Kalker's at a/b and ν."""
     r = a / b
-    c11, c22, c23, c33 = creep_coefficients(r, nu)
-    l11, l22, l23, l33 = creep_coefficient_slopes(r, nu)
+    c11, c22, c23, c33 = creep_coefficients(r, nu) if coefficients is None else coefficients
+    l11, l22, l23, l33 = creep_coefficient_slopes(r, nu) if slopes is None else slopes
     c2 = a * b
     c = math.sqrt(c2)
     J = np.zeros((4, 7))

@@ -135,12 +135,10 @@ VARIABLES: tuple[Variable, ...] = (
              DEFAULT_LAW.kind),
     Variable("friction_kinetic_ratio", "parameter", "Real", "1", "Kinetic over static friction "
              "coefficient, the limit at large slip velocity (Polach's A)", "falling_friction",
-             DEFAULT_LAW.kinetic,
-             Range(0.0, 1.0, False, False, "kinetic over static friction coefficient")),
+             DEFAULT_LAW.kinetic, Range(*FrictionLaw.RANGES["kinetic"])),
     Variable("friction_slip_half", "parameter", "Real", "m/s", "Slip velocity at which the "
              "falling part of the friction is halved (exponential law: ln 2 / Polach's B)",
-             "falling_friction", DEFAULT_LAW.s_half,
-             Range(0.0, _INF, True, True, "slip velocity halving the falling part, m/s")),
+             "falling_friction", DEFAULT_LAW.s_half, Range(*FrictionLaw.RANGES["s_half"])),
 )
 #: Variables by name.
 BY_NAME = {v.name: v for v in VARIABLES}

@@ -51,7 +51,7 @@ import numpy as np
 from numba.extending import register_jitable
 
 from .api import METHODS, make_solver
-from .base import _speed, check_inputs
+from .base import _speed, check_inputs, refuse_speed
 from .effects import ALL_EFFECTS, Effects, as_effects
 from .friction import FrictionLaw
 from .hertz import (CURVATURE_RATIO_RANGE, HertzPatch, hertz_geometry, max_pressure,
@@ -169,14 +169,6 @@ class _Evaluator:
         self._lifted = make_result(0.0, 0.0, 0.0, config.method, 0.0)
         self.a = self.b = self.p0 = 0.0
         self.last: ContactResult | None = None
-
-    @staticmethod
-    def _no_speed(V: float) -> None:
-        """A rolling speed given without the effect 'falling_friction': only 0 is allowed, and
-        is then unused (None)."""
-        if V:
-            raise ValueError(f"V={V!r} is given but the effect 'falling_friction' is not "
-                             "selected: allowed None or 0, or select the effect")
 
     def _step(self, xi: float, eta: float, phi: float, N: float, mu: float, a: float, b: float,
               p0: float, V: float | None) -> ContactResult:
@@ -302,7 +294,8 @@ class WheelRailEvaluator(_Evaluator):
         if mu is None:
             mu = self.mu
         if V is not None and self.solver.friction is None:
-            V = self._no_speed(V)
+            refuse_speed(V)
+            V = None
         if 0.0 < N < _INF:
             # HertzGeometry.patch(N) without building a HertzPatch per step (same arithmetic).
             s = N ** _THIRD
@@ -323,7 +316,8 @@ class WheelRailEvaluator(_Evaluator):
         if mu is None:
             mu = self.mu
         if V is not None and self.solver.friction is None:
-            V = self._no_speed(V)
+            refuse_speed(V)
+            V = None
         if not 0.0 < N < _INF:
             self._check_lifted(N, xi, eta, phi, mu, V)
             return self._zero_jacobian(EVALUATOR_OUTPUTS)
@@ -408,7 +402,7 @@ def _semi_axes_patch(N: float, a: float, b: float, e_star: float) -> tuple[float
     (Kalker 1979 eq 3); (nan, nan, nan) for a semi-axis that is not finite and positive (also
     compiled into the kernel of :mod:`.contacts`)."""
     if 0.0 < a < _INF and 0.0 < b < _INF:
-        return a, b, 1.5 * (N / (math.pi * a * b))      # max_pressure's arithmetic
+        return a, b, max_pressure(N, a, b)
     return math.nan, math.nan, math.nan
 
 
@@ -441,7 +435,8 @@ class VaryingGeometryEvaluator(_Evaluator):
         if mu is None:
             mu = self.mu
         if V is not None and self.solver.friction is None:
-            V = self._no_speed(V)
+            refuse_speed(V)
+            V = None
         if 0.0 < N < _INF:
             a, b, p0 = self._patch(N, gx, gy, self._e_star)
             if a != a:          # nan: no patch for this geometry
@@ -463,7 +458,8 @@ class VaryingGeometryEvaluator(_Evaluator):
         if mu is None:
             mu = self.mu
         if V is not None and self.solver.friction is None:
-            V = self._no_speed(V)
+            refuse_speed(V)
+            V = None
         outputs = EVALUATOR_OUTPUTS if self._curvatures else SEMI_AXES_OUTPUTS
         if not 0.0 < N < _INF:
             self._check_lifted(N, xi, eta, phi, mu, V, zip(self.geometry, (gx, gy)))

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 import os
 import time
+from functools import cache
 
 import numpy as np
 
@@ -42,11 +43,12 @@ SETTINGS = (("Polach (creep velocity)", "polach", {}),
              {"mx": 24, "my": 24, "extrapolate": False, "falling": "creep"}))
 
 
-def contacts() -> list[dict]:
+@cache
+def contacts() -> tuple[dict, ...]:
     E, nu = 210e9, 0.28
     wheel = cc.hertz_from_radii(50e3, 0.46, math.inf, 0.3, E, nu)
-    return [dict(N=50e3, mu=MU, a=wheel.a, b=wheel.b, G=cc.shear_modulus(E, nu), nu=nu),
-            dict(N=106.7e3, mu=MU, a=6.304e-3, b=12.61e-3, G=82e9, nu=0.28)]
+    return (dict(N=50e3, mu=MU, a=wheel.a, b=wheel.b, G=cc.shear_modulus(E, nu), nu=nu),
+            dict(N=106.7e3, mu=MU, a=6.304e-3, b=12.61e-3, G=82e9, nu=0.28))
 
 
 def states() -> list[tuple[float, float, float]]:
@@ -66,6 +68,13 @@ def solve_all(method, options, effects, V=None):
                 r = solver.step(*args, None, speed) if effects == FALLING else solver.step(*args)
                 out.append((r.Fx, r.Fy, case["mu"] * case["N"]))
     return np.array(out)
+
+
+def solve_coulomb(method, options):
+    """:func:`solve_all` with Coulomb friction, in its order (contact, speed, state): Coulomb's
+    law has no speed, so each contact is solved once and its results repeated for every speed."""
+    res = solve_all(method, options, COULOMB, V=0.0)
+    return np.tile(res.reshape(len(contacts()), 1, -1, 3), (1, len(SPEEDS), 1, 1)).reshape(-1, 3)
 
 
 def errors(res, ref):
@@ -99,9 +108,7 @@ def section(heading: str = "##") -> str:
     (:mod:`contact_tools.bench`)."""
     t0 = time.perf_counter()
     ref_fall = solve_all("exact", {}, FALLING)
-    ref_coul = solve_all("exact", {}, COULOMB, V=0.0)
-    ref_coul = np.tile(ref_coul.reshape(len(contacts()), 1, -1, 3),
-                       (1, len(SPEEDS), 1, 1)).reshape(-1, 3)
+    ref_coul = solve_coulomb("exact", {})
     pure = np.array([eta == 0.0 and phi == 0.0 for xi, eta, phi in states()]
                     * (len(contacts()) * len(SPEEDS)))
     lines = [f"{heading} Falling friction: every method against the exact theory with the same "
@@ -125,8 +132,7 @@ def section(heading: str = "##") -> str:
     for label, method, options in SETTINGS:
         e_f = errors(solve_all(method, options, FALLING), ref_fall)
         coul_opts = {k: v for k, v in options.items() if k != "falling"}
-        e_c = errors(np.tile(solve_all(method, coul_opts, COULOMB, V=0.0).reshape(
-            len(contacts()), 1, -1, 3), (1, len(SPEEDS), 1, 1)).reshape(-1, 3), ref_coul)
+        e_c = errors(solve_coulomb(method, coul_opts), ref_coul)
         t_f, t_c = costs_us(method, options, coul_opts)
         fmt = lambda e: f"{np.percentile(e, 95):.2f} / {e.max():.2f}"  # noqa: E731
         ms = method == "exact"

@@ -29,13 +29,17 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy.linalg import expm
 from scipy.optimize import brentq
 
 # the reference wheelset models, next to this script (its folder is on sys.path when it runs)
 from wheelsets.analysis import fit_damped
 from wheelsets.build import build_contact, build_wheelsets, contact_fmu_name
-from wheelsets.linear_model import LinearWheelset
+from wheelsets.linear_model import (
+    LinearWheelset,
+    creep_mode_excess,
+    explicit_limit,
+    hunting_multiplier,
+)
 from wheelsets.scripts import command_line, machine_note
 from wheelsets.systems import driven_time_constant, make_system, recommended_step
 
@@ -49,51 +53,11 @@ RATIO = 5.0                      # communication step / explicit limit asked for
 
 
 # ------------------------------------------------------------------------------------------------
-# Exact discrete maps of the couplings of the linear model
+# Critical speed predicted by the exact discrete maps (wheelsets.linear_model)
 # ------------------------------------------------------------------------------------------------
-def coupling_map(lw: LinearWheelset, V: float, h: float, scheme: str, hold: str) -> np.ndarray:
-    """x_{k+1} = M x_k for the linear wheelset (x = y, ψ, ẏ, ψ̇) with the creep forces u = K x
-    exchanged every h: explicit, u_k held; linearly implicit (exact for a linear law), u_{k+1}
-    held (constant hold) or u ramped from u_k to u_{k+1} (linear hold); the suspension
-    integrated exactly (matrix exponential of the system augmented by the hold's polynomial)."""
-    As, Bs, K = lw.split(V)
-    aug = np.zeros((8, 8))
-    aug[:4, :4], aug[:4, 4:6], aug[4:6, 6:8] = As, Bs, np.eye(2)
-    E = expm(aug * h)
-    Phi, G0, G1 = E[:4, :4], E[:4, 4:6], E[:4, 6:8] / h   # G1: response to the ramp (t/h) u
-    I = np.eye(4)
-    if scheme == "gauss-seidel":
-        return Phi + G0 @ K
-    if hold == "constant":
-        return np.linalg.solve(I - G0 @ K, Phi)
-    return np.linalg.solve(I - G1 @ K, Phi + (G0 - G1) @ K)
-
-
-def hunting_multiplier(lw, V, h, scheme, hold) -> complex:
-    """The eigenvalue of the discrete map that continues exp(λ h) of the hunting mode."""
-    ev = np.linalg.eigvals(coupling_map(lw, V, h, scheme, hold))
-    return complex(ev[np.argmin(np.abs(ev - np.exp(lw.hunting_eigenvalue(V) * h)))])
-
-
-def creep_mode_excess(lw: LinearWheelset, V: float, h: float, scheme: str = "gauss-seidel",
-                      hold: str = "constant") -> float:
-    """The largest modulus of the map's eigenvalues other than the hunting pair, minus 1 (> 0:
-    the coupling is numerically unstable)."""
-    ev = np.linalg.eigvals(coupling_map(lw, V, h, scheme, hold))
-    hunting = np.exp(lw.hunting_eigenvalue(V) * h)
-    ev = ev[np.argsort(np.minimum(np.abs(ev - hunting), np.abs(ev - np.conj(hunting))))[2:]]
-    return float(np.abs(ev).max()) - 1.0
-
-
-def explicit_limit(lw: LinearWheelset, V: float) -> float:
-    """The explicit coupling's stability limit (module docstring)."""
-    hs = np.geomspace(1e-4, 0.05, 200)
-    i = next(i for i, h in enumerate(hs) if creep_mode_excess(lw, V, h) > 0)
-    return brentq(lambda h: creep_mode_excess(lw, V, h), hs[i - 1], hs[i], xtol=1e-10)
-
-
 def map_critical_speed(lw: LinearWheelset, h: float, scheme: str, hold: str) -> float:
-    """The speed at which the map's hunting multiplier has modulus 1 (nan if none near V_c, or
+    """The speed at which the hunting multiplier of the exact discrete map of the coupling
+    (``wheelsets.linear_model.coupling_map``) has modulus 1 (nan if none near V_c, or
     if the coupling is unstable there)."""
     Vc = lw.critical_speed()
     if creep_mode_excess(lw, Vc, h, scheme, hold) > 0:
@@ -137,23 +101,26 @@ def critical_speed(dist: Path, lw: LinearWheelset, h: float, scheme: str, hold: 
     return Vc * (0.95 - sig[0.95] * 0.1 / (sig[1.05] - sig[0.95])), runs
 
 
-T_LIMIT = 0.3 * 100e3 * 0.46        # μ W r0: the adhesion limit of the driven wheelset, N m
+MU, W, R0 = 0.3, 100e3, 0.46         # friction, wheelset load (N), rolling radius (m)
+T_LIMIT = MU * W * R0                # the Coulomb adhesion limit of the driven wheelset, N m
 LEVELS = (0.2, 0.5, 0.8, 0.95)       # torque levels, fractions of T_LIMIT
 HOLD = 0.16                          # s per level
 V_DRIVE = 20.0
 
 
-def driven(dist: Path, h: float, scheme: str, hold: str):
-    def torque(t):
-        return LEVELS[min(int(t / HOLD + 1e-9), len(LEVELS) - 1)] * T_LIMIT
+def staircase(t: float) -> float:
+    """The drive torque: LEVELS of T_LIMIT, HOLD seconds each, N m."""
+    return LEVELS[min(int(t / HOLD + 1e-9), len(LEVELS) - 1)] * T_LIMIT
 
+
+def driven(dist: Path, h: float, scheme: str, hold: str, torque=staircase,
+           T: float = len(LEVELS) * HOLD,
+           record=("wheelset.xi", "contact_L.Fx", "contact_R.Fx")):
     sim = make_system(dist / "DrivenWheelsetFMU.fmu",
                       dist / f"{contact_fmu_name('traction', 'fastsim')}.fmu", {"V": V_DRIVE},
                       inputs={"wheelset.torque": torque}, scheme=scheme, hold=hold)
     try:
-        return sim.run(len(LEVELS) * HOLD, h, record=["wheelset.xi", "contact_L.Fx",
-                                                      "contact_R.Fx"],
-                       abort_above={"wheelset.xi": 1.0})
+        return sim.run(T, h, record=list(record), abort_above={"wheelset.xi": 1.0})
     finally:
         sim.free()
 
@@ -163,7 +130,7 @@ def steady(r) -> tuple[np.ndarray, np.ndarray]:
     t = r["time"]
     i = [np.searchsorted(t, (k + 1) * HOLD - 1e-9) for k in range(len(LEVELS))]
     force = (r["contact_L.Fx"] + r["contact_R.Fx"])[i]
-    return force / (np.array(LEVELS) * T_LIMIT / 0.46) - 1.0, r["wheelset.xi"][i]
+    return force / (np.array(LEVELS) * T_LIMIT / R0) - 1.0, r["wheelset.xi"][i]
 
 
 LC_T, LC_WINDOW = 8.0, 3.0
@@ -305,7 +272,8 @@ def main(argv=None) -> int:
                       ("tangent track, FASTSIM contacts",
                        lambda s, hd: tangent(dist, "fastsim", Vc, 0.2, 1e-3, s, hd)),
                       ("driven wheelset, FASTSIM contacts",
-                       lambda s, hd: driven_cost(dist, s, hd))):
+                       lambda s, hd: driven(dist, 1e-3, s, hd, torque=lambda t: 0.5 * T_LIMIT,
+                                            T=0.2, record=("wheelset.xi",)))):
         cells = []
         for _, scheme, hold in SCHEMES:
             walls = []
@@ -322,17 +290,6 @@ def main(argv=None) -> int:
     (out / "implicit_coupling_summary.md").write_text(text, encoding="utf-8")
     print(text)
     return 0
-
-
-def driven_cost(dist: Path, scheme: str, hold: str):
-    sim = make_system(dist / "DrivenWheelsetFMU.fmu",
-                      dist / f"{contact_fmu_name('traction', 'fastsim')}.fmu", {"V": V_DRIVE},
-                      inputs={"wheelset.torque": lambda t: 0.5 * T_LIMIT}, scheme=scheme,
-                      hold=hold)
-    try:
-        return sim.run(0.2, 1e-3, record=["wheelset.xi"])
-    finally:
-        sim.free()
 
 
 def plot(out, lw, lim_c, ratios, predicted, h_big, vc_runs, vc_ref, runs_ref, h_ref, ref_d,
@@ -381,7 +338,7 @@ def plot(out, lw, lim_c, ratios, predicted, h_big, vc_runs, vc_ref, runs_ref, h_
     a.legend(fontsize=7, loc="lower left")
 
     a = ax[1, 0]
-    scale = 0.46 / T_LIMIT
+    scale = R0 / T_LIMIT
     a.plot(ref_d["time"], (ref_d["contact_L.Fx"] + ref_d["contact_R.Fx"]) * scale, color="k",
            lw=1.5, label="explicit, h = 0.1 ms (reference)")
     for (h, label), r in d_runs.items():

@@ -2,11 +2,11 @@
 at communication steps of five and more times the explicit stability limit.
 
 References, each derived here independently of the master and the FMUs: the exact discrete maps
-of the explicit and of the linearly implicit couplings of the linear 4-state wheelset (its
-matrices from ``wheelsets.linear_model``, Kalker's coefficients; the hold's response integrals
-by quadrature), the eigenvalues' critical speed, the closed-form motion of a spring-mass under a
-ramped force, the moment balance of the driven wheelset and the law's own creep-force curve
-(``contact_core.solve``). The FMUs are built once for this module.
+of the explicit and of the linearly implicit couplings of the linear 4-state wheelset (the maps
+and the matrices from ``wheelsets.linear_model``, Kalker's coefficients; the holds' response
+integrals exact, by the matrix exponential), the eigenvalues' critical speed, the closed-form
+motion of a spring-mass under a ramped force, the moment balance of the driven wheelset and the
+law's own creep-force curve (``contact_core.solve``). The FMUs are built once for this module.
 """
 from __future__ import annotations
 
@@ -16,15 +16,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 from fmpy.fmi1 import FMICallException
-from scipy.integrate import quad_vec
-from scipy.linalg import expm
 from scipy.optimize import brentq
 
 import contact_core as cc
 from wheel_rail_fmu.host import FmuInstance
 from wheelsets.analysis import fit_damped
 from wheelsets.build import build_contact, build_wheelsets
-from wheelsets.linear_model import LinearWheelset
+from wheelsets.linear_model import LinearWheelset, explicit_limit, hunting_multiplier
 from wheelsets.master import CoSimulation
 from wheelsets.systems import make_system
 
@@ -115,45 +113,10 @@ def test_force_rate_inputs_apply_the_ramp(fmus):
 
 
 # Critical speed --------------------------------------------------------------------------------
-def hold_integrals(V: float, h: float):
-    """Φ = e^{A h}, Γ0 = ∫ e^{A(h-s)} B ds, Γ1 = ∫ e^{A(h-s)} B s/h ds of the suspension-only
-    wheelset (A, B), and the creep forces' matrix K (forces = K x); by quadrature."""
-    A, B, K = LW.split(V)
-    g0 = quad_vec(lambda s: expm(A * (h - s)) @ B, 0.0, h, epsabs=0, epsrel=1e-12)[0]
-    g1 = quad_vec(lambda s: expm(A * (h - s)) @ B * (s / h), 0.0, h, epsabs=0, epsrel=1e-12)[0]
-    return expm(A * h), g0, g1, K
-
-
-def discrete_map(V: float, h: float, coupling: str) -> np.ndarray:
-    """x_{k+1} = M x_k of the co-simulation of the linear wheelset: explicit (forces of x_k
-    held), linearly implicit with the law linear (the forces of x_{k+1} held: "constant"; ramped
-    from those of x_k to those of x_{k+1}: "linear")."""
-    Phi, g0, g1, K = hold_integrals(V, h)
-    I = np.eye(4)
-    if coupling == "explicit":
-        return Phi + g0 @ K
-    if coupling == "constant":
-        return np.linalg.solve(I - g0 @ K, Phi)
-    return np.linalg.solve(I - g1 @ K, Phi + (g0 - g1) @ K)
-
-
-def hunting_growth(V: float, h: float, coupling: str) -> float:
-    """Growth rate (1/s) of the hunting mode of the discrete map."""
-    ev = np.linalg.eigvals(discrete_map(V, h, coupling))
-    mu = ev[np.argmin(np.abs(ev - np.exp(LW.hunting_eigenvalue(V) * h)))]
-    return math.log(abs(mu)) / h
-
-
-def explicit_limit(V: float) -> float:
-    """Smallest step at which a mode of the explicit map other than hunting is unstable."""
-    def excess(h):
-        ev = np.linalg.eigvals(discrete_map(V, h, "explicit"))
-        hunting = np.exp(LW.hunting_eigenvalue(V) * h)
-        far = np.minimum(np.abs(ev - hunting), np.abs(ev - hunting.conjugate()))
-        return np.abs(ev[np.argsort(far)[2:]]).max() - 1.0
-    hs = np.linspace(1e-3, 2e-2, 39)
-    i = next(i for i, h in enumerate(hs) if excess(h) > 0)
-    return brentq(excess, hs[i - 1], hs[i], xtol=1e-7)
+def hunting_growth(V: float, h: float, hold: str) -> float:
+    """Growth rate (1/s) of the hunting mode of the exact discrete map of the linearly implicit
+    coupling with ``hold``."""
+    return math.log(abs(hunting_multiplier(LW, V, h, "linearly-implicit", hold))) / h
 
 
 def growth(fmus, V, h, scheme, hold="constant", T=3.0):
@@ -179,7 +142,7 @@ def test_critical_speed_at_five_times_the_explicit_limit(fmus):
     diverges where the motion decays (0.95 V_c); the linearly implicit one with linear hold
     gives the critical speed within 1 % of the explicit scheme at the small step (1 ms) and of
     the eigenvalues; both holds' growth rates are those of their exact discrete maps."""
-    h_lim = explicit_limit(VC)
+    h_lim = explicit_limit(LW, VC)
     assert 0.9 * 2 * LW.tau(VC) < h_lim < 1.1 * 2 * LW.tau(VC)     # ≈ 2τ
     h = math.ceil(5 * h_lim * 1e3) * 1e-3
     assert h >= 5 * h_lim

@@ -30,10 +30,11 @@ from typing import Callable
 import numpy as np
 from numba import njit
 
-from ..friction import ratio_of
+from ..friction import memory_step, ratio_of
 from .sweeps import EXTERIOR
 
 _ratio = njit(cache=True)(ratio_of)
+_memory_step = njit(cache=True)(memory_step)
 
 #: Outer iterations at most, and the smallest relaxation factor.
 MAX_OUTER, OMEGA_MIN = 200, 1.0 / 16.0
@@ -56,10 +57,7 @@ def friction_field(speed_w: np.ndarray, status: np.ndarray, law, dt_per_v: float
                 up = 1.0
                 continue
             s = speed_w[iy, ix]
-            rho = _ratio(law, s)
-            if memory > 0.0:
-                th = memory / (memory + dt_per_v * max(s, s0))
-                rho = th * up + (1.0 - th) * rho
+            rho = _memory_step(up, _ratio(law, s), s, memory, dt_per_v, s0)
             out[iy, ix] = rho
             up = rho
     return out

@@ -26,9 +26,9 @@ at the nominal radius). Spin: ω·n includes the contact angle's part −Ω sin 
 2c: the conicity's spin) and the yaw rate's ψ̇ cos δ.
 
 Rolling speed: V = (|V_t| + |V_w|)/2, the mean of the speeds at which rail and wheel surfaces
-move through the contact (CONTACT User Guide, module 1, "VELOC"): V_t the x velocity of the wheel
-particle without the pitch rotation (the speed of the contact point along the rail), V_w the
-x velocity of the pitch rotation alone.
+move through the contact (Vollebregt, CONTACT user guide, module 1, "VELOC"): V_t the x
+velocity of the wheel particle without the pitch rotation (the speed of the contact point along
+the rail), V_w the x velocity of the pitch rotation alone.
 
 CONTACT's own output (module 1) takes rail relative to wheel and forces on the rail: its creepages
 and forces are the negatives of these in the same contact frame.

@@ -12,8 +12,8 @@ contact angle there), so that Hertz's approach–load relation δ_n = k_d N^{2/3
 
 A wheel's vertical force on the rail in the track frame is the sum over its patches of
 N cos δ + F_s sin δ, F_s the lateral creep force on the rail in the contact plane (CONTACT's
-module 1 solves the wheelset height for this total, tangential parts included: User Guide,
-"Wheelset geometry & state"). :func:`solve_wheel` finds the height z at which a wheel carries a
+module 1 solves the wheelset height for this total, tangential parts included: Vollebregt,
+CONTACT user guide, "Wheelset geometry & state"). :func:`solve_wheel` finds the height z at which a wheel carries a
 given vertical load (Brent's method), with the contact search, the creepages
 (:mod:`.kinematics`) and the creep forces (:func:`contact_core.solve`) of every patch evaluated at
 each trial height.

@@ -1,6 +1,6 @@
 """Wheel and rail profiles: canonical form, SIMPACK ``.prw``/``.prr`` files, y–z tables, splines.
 
-Canonical form (the form of Vollebregt's CONTACT, User Guide sec. "Inputs regarding wheel and rail
+Canonical form (the form of Vollebregt's CONTACT user guide, sec. "Inputs regarding wheel and rail
 profiles", and of SIMPACK's profile files after their processing flags): the profile of a **right**
 wheel or rail seen from behind, lengths in m,
 

@@ -26,10 +26,14 @@ Per patch:
 
 - at its deepest point (the minimum of the gap, where both surfaces are parallel): the vertical
   gap, the contact angle there, and the relative curvatures (Hertz: gap ≈ A x² + B y² in the
-  contact plane). With the wheel a surface of revolution and the rail straight along x,
-  A = cos δ_w / (2r) (Meusnier: the normal curvature along the wheel's circle, δ_w the wheel
-  profile's inclination to the axle, r = r0 + z_w), and B = (κ_rail − κ_wheel)/2 with
-  κ = z''/(1 + z'²)^{3/2} of each profile (:class:`ProfileFunction` signs). For |ψ| ≪ 1 the
+  contact plane, A and B half the sums of both bodies' principal curvatures along x and across
+  when their principal axes are parallel: Johnson 1985, sec. 4.1). With the wheel a surface of
+  revolution and the rail straight along x, the wheel's curvature along x is cos δ_w / r
+  (Meusnier's theorem, e.g. do Carmo 1976, *Differential Geometry of Curves and Surfaces*,
+  sec. 3-2: the normal curvature of the wheel's circle of radius r = r0 + z_w, δ_w the wheel
+  profile's inclination to the axle), so A = cos δ_w / (2r), and B = (κ_rail − κ_wheel)/2 with
+  κ = z''/(1 + z'²)^{3/2} the curvature of each profile curve (:class:`ProfileFunction`
+  signs). For |ψ| ≪ 1 the
   principal directions of both bodies are taken as x and the profile tangent (the yaw turns the
   wheel's by ψ, a second-order effect on A and B);
 - its reference point: where the patch overlaps the rail (gap < 0), the centre of the overlap
@@ -38,8 +42,8 @@ Per patch:
   CONTACT's module 1 uses); with no overlap, the deepest point. There: the contact point on the
   rail in the track frame and on both profiles, the rolling radius r = r0 + z_w, and the contact
   angle δ, the rotation about the track x axis from the track z axis to the contact normal
-  (positive on the left rail's gauge side, negative on the right rail's; CONTACT User Guide,
-  "DELTTR"): atan(dz_rail/dy) in the track frame, averaged over the overlap with the same
+  (positive on the left rail's gauge side, negative on the right rail's; Vollebregt, CONTACT
+  user guide, "DELTTR"): atan(dz_rail/dy) in the track frame, averaged over the overlap with the same
   weights. For a parabolic gap both points coincide; they differ where the curvatures vary across
   a wide patch (near-conformal treads).
 
@@ -108,10 +112,6 @@ class WheelContact:
 
     side: str
     points: tuple[ContactPoint, ...]
-
-    @property
-    def min_gap(self) -> float:
-        return min(p.gap for p in self.points)
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,8 @@ Per wheel (left, right) and slot (0 tread, 1 flange; :mod:`.search`), the column
 - ``y``, ``z``: contact point in the track frame (m), ``y_rail``, ``y_wheel`` on the profiles;
 - ``x_per_yaw``: longitudinal position of the contact point per unit yaw, m/rad (first order in
   ψ: the wheelset's rotation about its centre and the contact locus' lead,
-  X ≈ −σ ψ (b + y_w + r dz_w/dy_w)).
+  X ≈ −σ ψ (b + y_w + r dz_w/dy_w), derived here from the contact locus of :mod:`.search`,
+  Vollebregt 2022).
 
 Per wheel also ``radius_contact`` (the rolling radius of the rigid contact point) and per table
 ``roll`` and ``z`` of the wheelset. Both wheels are equal and the track symmetric, so the table is
@@ -179,11 +180,10 @@ class ContactTable:
         amp = np.atleast_1d(np.asarray(amplitudes, dtype=float))
         if np.any(~(amp > 0.0)) or np.any(amp > self.y[-1] * (1 + 1e-12)):
             raise ValueError(f"amplitudes must lie in 0 < A <= {self.y[-1]!r} m")
-        tau = (np.arange(n) + 0.5) * (2.0 * math.pi / n)
-        s = np.sin(tau)
-        dr = self.rolling_radius_difference(np.clip(amp[:, None] * s[None, :], self.y[0],
-                                                    self.y[-1]))
-        return (dr * s).sum(axis=1) * (2.0 * math.pi / n) / (2.0 * math.pi * amp)
+        def dr(y):
+            return self.rolling_radius_difference(np.clip(y, self.y[0], self.y[-1]))
+
+        return 0.5 * harmonic_gain(dr, amp, n)
 
     def flange_onset(self) -> float:
         """Smallest y >= 0 (m) on the grid at which the right wheel's flange slot carries load at
@@ -205,6 +205,21 @@ class ContactTable:
     def _first(self, mask: np.ndarray) -> float:
         idx = np.flatnonzero(mask & (self.y >= 0.0))
         return float(self.y[idx[0]]) if idx.size else math.nan
+
+
+def harmonic_gain(f, amplitudes, n: int) -> np.ndarray:
+    """The gain of the first harmonic of f(y) for y = A sin τ at each amplitude A (harmonic
+    linearisation, the describing function of f; EN 15302 and Polach 2010 for the equivalent
+    conicity, module docstring):
+
+        g(A) = 1/(πA) ∫_0^{2π} f(A sin τ) sin τ dτ,
+
+    by the midpoint rule with ``n`` points over a period. ``f`` takes the array of the y, of
+    shape (amplitudes, n), and returns its values in the same shape; g = c for f = c y."""
+    amp = np.atleast_1d(np.asarray(amplitudes, dtype=float))
+    s = np.sin((np.arange(n) + 0.5) * (2.0 * math.pi / n))
+    values = f(amp[:, None] * s[None, :])
+    return (values * s).sum(axis=1) * (2.0 * math.pi / n) / (math.pi * amp)
 
 
 def load_table(path) -> ContactTable:

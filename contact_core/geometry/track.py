@@ -6,7 +6,7 @@ plane that touches the tops of both rails (the track plane). Track cant (superel
 the whole track frame and so leaves the wheel–rail geometry in it unchanged; the rail
 *inclination* (e.g. 1:40 towards the track centre) turns each rail profile and is applied here.
 
-Rail placement (Vollebregt, CONTACT User Guide, sec. "Track and roller geometry", gauge point
+Rail placement (Vollebregt, CONTACT user guide, sec. "Track and roller geometry", gauge point
 computation): the canonical (right-hand) rail profile is inclined by ``inclination`` towards the
 track centre, lifted so that its highest point touches the track plane, and moved laterally so
 that its gauge face, measured ``gauge_height`` below the track plane, is at ``gauge``/2 from the

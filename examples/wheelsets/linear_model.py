@@ -13,6 +13,9 @@ crosses zero. :func:`cosim_matrix` is the exact discrete map of the co-simulatio
 linear system with the creep forces held over a step h (Gauss-Seidel: forces of x_k; Jacobi: of
 x_{k-1}): its spectral radius > 1 is the numerical instability of a too-large communication step.
 The tests re-derive all of this independently (``tests/test_wheelsets.py``).
+:func:`coupling_map` is the exact discrete map of the explicit and of the linearly implicit
+coupling of ``master.py`` (constant and linear hold) of the same system, the reference of
+``examples/run_implicit_coupling.py`` and ``tests/test_implicit_coupling.py``.
 """
 from __future__ import annotations
 
@@ -93,3 +96,54 @@ class LinearWheelset:
                       [-2 * f11 * self.b0 * self.lam / self.r0, -2 * f23 - self.k_psi]])
         rhs = np.array([2 * f23 / R, 2 * f11 * self.b0 ** 2 / R + 2 * f33 / R])
         return np.linalg.solve(M, rhs)
+
+
+# ------------------------------------------------------------------------------------------------
+# Exact discrete maps of the couplings of master.py (explicit, linearly implicit)
+# ------------------------------------------------------------------------------------------------
+def coupling_map(lw: LinearWheelset, V: float, h: float, scheme: str = "gauss-seidel",
+                 hold: str = "constant") -> np.ndarray:
+    """x_{k+1} = M x_k for the linear wheelset (x = y, ψ, ẏ, ψ̇) with the creep forces u = K x
+    exchanged every h: explicit (``scheme="gauss-seidel"``), u_k held; linearly implicit (exact
+    for a linear law), u_{k+1} held (``hold="constant"``) or u ramped from u_k to u_{k+1}
+    (``hold="linear"``, Busch 2016's first-order hold). The suspension is integrated exactly:
+    Φ = e^{A h}, Γ0 = ∫ e^{A(h-s)} B ds and Γ1 = ∫ e^{A(h-s)} B s/h ds are blocks of the
+    exponential of the system augmented by the hold's polynomial (C. F. Van Loan, "Computing
+    integrals involving the matrix exponential", IEEE Trans. Automatic Control 23 (1978)
+    395-404, block-triangular exponential); the maps are derived here from them."""
+    As, Bs, K = lw.split(V)
+    aug = np.zeros((8, 8))
+    aug[:4, :4], aug[:4, 4:6], aug[4:6, 6:8] = As, Bs, np.eye(2)
+    E = expm(aug * h)
+    Phi, G0, G1 = E[:4, :4], E[:4, 4:6], E[:4, 6:8] / h   # G1: response to the ramp (t/h) u
+    I = np.eye(4)
+    if scheme == "gauss-seidel":
+        return Phi + G0 @ K
+    if hold == "constant":
+        return np.linalg.solve(I - G0 @ K, Phi)
+    return np.linalg.solve(I - G1 @ K, Phi + (G0 - G1) @ K)
+
+
+def hunting_multiplier(lw: LinearWheelset, V: float, h: float, scheme: str = "gauss-seidel",
+                       hold: str = "constant") -> complex:
+    """The eigenvalue of :func:`coupling_map` that continues exp(λ h) of the hunting mode."""
+    ev = np.linalg.eigvals(coupling_map(lw, V, h, scheme, hold))
+    return complex(ev[np.argmin(np.abs(ev - np.exp(lw.hunting_eigenvalue(V) * h)))])
+
+
+def creep_mode_excess(lw: LinearWheelset, V: float, h: float, scheme: str = "gauss-seidel",
+                      hold: str = "constant") -> float:
+    """The largest modulus of the map's eigenvalues other than the hunting pair, minus 1 (> 0:
+    the coupling is numerically unstable)."""
+    ev = np.linalg.eigvals(coupling_map(lw, V, h, scheme, hold))
+    hunting = np.exp(lw.hunting_eigenvalue(V) * h)
+    ev = ev[np.argsort(np.minimum(np.abs(ev - hunting), np.abs(ev - np.conj(hunting))))[2:]]
+    return float(np.abs(ev).max()) - 1.0
+
+
+def explicit_limit(lw: LinearWheelset, V: float) -> float:
+    """The explicit coupling's stability limit: the smallest step at which an eigenvalue of its
+    :func:`coupling_map` other than the hunting pair leaves the unit circle (≈ 2τ)."""
+    hs = np.geomspace(1e-4, 0.05, 200)
+    i = next(i for i, h in enumerate(hs) if creep_mode_excess(lw, V, h) > 0)
+    return brentq(lambda h: creep_mode_excess(lw, V, h), hs[i - 1], hs[i], xtol=1e-10)

@@ -158,7 +158,6 @@ class Result:
     steps: int                       #: communication steps done
     component_time: dict[str, float] = field(default_factory=dict)  #: CPU time per component, s
     aborted: bool = False            #: stopped early by ``abort_above``
-    sensitivity_updates: int = 0     #: linearly implicit scheme: times S was computed
 
     def __getitem__(self, key: str) -> np.ndarray:
         return self.data[key]
@@ -350,8 +349,7 @@ class CoSimulation:
         data = {"time": arr[:, 0]}
         for i, p in enumerate(record):
             data[p] = arr[:, i + 1]
-        return Result(data, wall, cpu, n_steps, busy, aborted,
-                      self._implicit.updates if self._implicit is not None else 0)
+        return Result(data, wall, cpu, n_steps, busy, aborted)
 
     def free(self) -> None:
         for comp in self.components.values():
@@ -435,7 +433,6 @@ class _LinearlyImplicit:
             self.sources[d.name] = (ui, [self.u[i][1] for i in ui])
         self.S: np.ndarray | None = None
         self.step_size: float | None = None
-        self.updates = 0
 
     # -- pieces of a step --------------------------------------------------------------------------
     def _u_of(self, d: Component, out: np.ndarray) -> None:
@@ -473,7 +470,6 @@ class _LinearlyImplicit:
                 self._step_dynamic(d, states[d.name], t, h, F0, F_end, values_of)
                 self._u_of(d, u)
                 S[ui, j] = (u[ui] - u_pred[ui]) / delta
-        self.updates += 1
         self.step_size = h
         return S
 

@@ -39,7 +39,11 @@ rolling radius r_c (no pitch freedom: ξ = 0 at y = 0).
 
 Normal loads
 ------------
-Quasi-static vertical and roll equilibrium (the wheelset's vertical and roll inertia neglected):
+Quasi-static vertical and roll equilibrium (the wheelset's vertical and roll inertia neglected;
+derived here from the rigid wheelset's statics with the patch forces f above, the normal load
+projected through the contact angle as in Wickens 2003, the single wheelset on profiles of
+arbitrary shape, and in Ayasse & Chollet, "Wheel–rail contact", in Iwnicki (ed.), *Handbook of
+Railway Vehicle Dynamics*, 2006):
 the suspension presses the wheelset down with the axle load W, half on each axle box (no roll
 moment), and holds it laterally at axle height. The patches of a wheel share its rigid approach d
 beyond the wheel's rigid contact (multi-Hertzian contact with a common approach: Piotrowski &
@@ -60,6 +64,11 @@ model does not follow.
 
 Equations of motion
 -------------------
+Newton–Euler equations of the wheelset's lateral and yaw freedoms with the patch forces f and
+moments m above (derived here; with cones and cos δ ≈ 1 they reduce to ``wheelset_dynamics``'
+equations, Wickens 2003's single wheelset; the lateral components of the normal loads are the
+gravitational stiffness of Wickens 2003 and Iwnicki (ed.) 2006):
+
     m ÿ   = Σ f_y,i − k_y y − c_y ẏ
     I_z ψ̈ = Σ (ρ_x,i f_y,i − ρ_y,i f_x,i + Mz_i cos δ_i) − k_ψ ψ − c_ψ ψ̇ − I_z V dκ/dt
 

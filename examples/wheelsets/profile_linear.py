@@ -21,20 +21,25 @@ linear creep coefficients) takes
   gravitational stiffness K_g = −g_{F_N}(A) (Wickens 2003: the lateral components of the normal
   loads, from the contact-angle difference of the two wheels; zero for cones);
 * the spin of the contact angle: each patch spins at sin δ_i / r0 + ψ̇/V (``profile_dynamics``:
-  pitch rate −V/r0 about the axle), so the wheels' spin sum, weighted by their loads, is
-  F_N(y)/(W/2 r0) + 2ψ̇/V; in Kalker's linear theory its lateral force and yaw moment are
-  −f23 and −f33 times that: lateral stiffness K_φy = f23 g_{F_N}/(W/2 r0), yaw coupling
-  K_φψ = f33 g_{F_N}/(W/2 r0).
+  pitch rate −V/r0 about the axle; the spin creepage of a wheel on a contact plane inclined by
+  δ, Kalker 1979 sec. 2 and fig. 2c), so the wheels' spin sum, weighted by their loads, is
+  F_N(y)/(W/2 r0) + 2ψ̇/V; in Kalker's linear theory (Kalker 1979: Fy = −f23 φ, Mz = −f33 φ)
+  its lateral force and yaw moment are −f23 and −f33 times that: lateral stiffness
+  K_φy = f23 g_{F_N}/(W/2 r0), yaw coupling K_φψ = f33 g_{F_N}/(W/2 r0) (derived here from
+  these two, with f23 and f33 of the centred contact).
 
 The critical speed of that model at amplitude A is the speed at which a hunting motion of that
 amplitude neither grows nor decays, to the accuracy of harmonic linearisation: the co-simulation's
-limit cycle at speed V has the amplitude A at which the estimate is V.
+limit cycle at speed V has the amplitude A at which the estimate is V (the describing-function
+prediction of a limit cycle by harmonic balance, A. Gelb & W. E. Vander Velde, *Multiple-Input
+Describing Functions and Nonlinear System Design*, McGraw-Hill 1968; for the wheelset's
+contact geometry through γ_e(A), Polach 2010).
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
+
+from contact_core.geometry.table import harmonic_gain as table_harmonic_gain
 
 from .linear_model import LinearWheelset
 from .profile_dynamics import ProfileParams, ProfileWheelset
@@ -43,12 +48,9 @@ from .wheelset_dynamics import LateralState
 
 
 def harmonic_gain(f, amplitude: float, n: int = 512) -> float:
-    """g(A) of the module docstring for a function ``f`` of y (vectorised or not), by the
-    midpoint rule over ``n`` points of a period (as ``ContactTable.equivalent_conicity``)."""
-    tau = (np.arange(n) + 0.5) * (2.0 * math.pi / n)
-    s = np.sin(tau)
-    values = np.array([f(amplitude * si) for si in s])
-    return float((values * s).sum() * (2.0 * math.pi / n) / (math.pi * amplitude))
+    """g(A) of the module docstring for a scalar function ``f`` of y
+    (:func:`contact_core.geometry.table.harmonic_gain`, ``n`` points over a period)."""
+    return float(table_harmonic_gain(np.vectorize(f, otypes=[float]), amplitude, n)[0])
 
 
 def normal_load_force(table, nominal_radius: float, axle_load: float = 100e3):
@@ -84,8 +86,9 @@ class ProfileLinearWheelset(LinearWheelset):
         self.K_phi_psi = self.f["f33"] * per_spin
 
     def split(self, V):
-        """As ``LinearWheelset.split``, with the normal loads' lateral force and the contact
-        angle's spin in the creep forces (module docstring)."""
+        """As ``LinearWheelset.split``, with the normal loads' lateral force (gravitational
+        stiffness, Wickens 2003) and the contact angle's spin (Kalker's f23, f33) in the creep
+        forces (module docstring: derived there)."""
         As, Bs, Kc = super().split(V)
         Kc = Kc.copy()
         Kc[0, 0] -= self.K_g + self.K_phi_y

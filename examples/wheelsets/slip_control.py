@@ -10,15 +10,21 @@ controller on the excess creepage e = |ξ| - ξ* (ξ* = ``xi_target``):
 
     cut = clamp(k_p e + ∫ k_i e dt, 0, |T|),     T_applied = T - sign(T) cut,
 
-the integral held in [0, |T|] (no wind-up), so that below ξ* the torque demanded is applied
-unchanged and above it the cut grows until the creepage comes back to ξ*.
+the integral held in [0, |T|] (no wind-up: the integrator clamped to the actuator's range, one of
+the anti-windup schemes of K. J. Åström & T. Hägglund, *Advanced PID Control*, ISA 2006, on
+integrator windup; K. J. Åström & R. M. Murray, *Feedback Systems*, Princeton 2008, ch. 10), so
+that below ξ* the torque demanded is applied unchanged and above it the cut grows until the
+creepage comes back to ξ*.
 
 Gains (:func:`gains`): near the peak the force's slope is small and the wheelset's creepage
 obeys d|ξ|/dt = r0/(V I_y) (T_applied - r0 ΣFx) (``wheelset_dynamics.DrivenWheelset``), an
 integrator of gain g = r0/(V I_y); with the controller the excess creepage follows
 ë + g k_p ė + g k_i e = 0, a second-order system of natural frequency ω = √(g k_i) and damping
 g k_p/(2ω). On the falling branch the force adds an unstable pole of about g r0 |dΣFx/dξ|,
-which g k_p must exceed. The defaults take ω = 20 rad/s, critical damping.
+which g k_p must exceed. The defaults take ω = 20 rad/s, critical damping. (The plant is derived
+here from the driven wheelset's I_y Ω̇ = T − r0 ΣFx with ξ = (V − Ω r0)/V; the gains are the
+pole placement of PI control of a first-order plant, Åström & Murray 2008, ch. 10, here with
+the plant's own pole at zero.)
 """
 from __future__ import annotations
 

@@ -211,15 +211,9 @@ def use_native_wrapper(fmu: str | Path) -> bool:
     return True
 
 
-def _generic_linux_binary() -> bytes:
-    """pythonfmu's generic Linux binary (the fallback)."""
-    import pythonfmu
-    path = Path(pythonfmu.__file__).parent / "resources" / "binaries" / "linux64"
-    return next(f.read_bytes() for f in sorted(path.glob("*.so")))
-
-
-def _binaries(stage: Path, wrapper: str) -> dict[str, bytes]:
-    """Archive name -> bytes of the binaries (see the module docstring)."""
+def _binaries(stage: Path, wrapper: str) -> tuple[dict[str, bytes], bool]:
+    """Archive name -> bytes of the binaries (see the module docstring), and whether the Linux
+    binary is this project's wrapper (else pythonfmu's generic one)."""
     import pythonfmu
     generic = Path(pythonfmu.__file__).parent / "resources" / "binaries"
     out = {f"binaries/{f.parent.name}/{MODEL_NAME}{f.suffix}": f.read_bytes()
@@ -229,11 +223,12 @@ def _binaries(stage: Path, wrapper: str) -> dict[str, bytes]:
         try:
             compile_wrapper(so)
             out[f"binaries/linux64/{MODEL_NAME}.so"] = so.read_bytes()
+            return out, True
         except WrapperUnavailable as e:
             if wrapper == "native":
                 raise
             warnings.warn(f"using pythonfmu's generic binary: {e}", RuntimeWarning, stacklevel=3)
-    return out
+    return out, False
 
 
 # ----------------------------------------------------------------------------------------------
@@ -327,8 +322,7 @@ def build(scene: str | Path = "full", method: str | None = None, out: str | Path
         resources = stage / "resources"
         module = _stage_bundle(resources, Path(core or Path(contact_core.__file__).parent))
         (resources / "requirements.txt").write_text(requirements_text())
-        files = _binaries(stage, wrapper)
-        native = files.get(f"binaries/linux64/{MODEL_NAME}.so") != _generic_linux_binary()
+        files, native = _binaries(stage, wrapper)
         identity = {"scene": sc.name, "effects": sc.effects.names(), "method": method,
                     "parameters": parameters, "description": sc.description, "module": module,
                     "entry": hashlib.sha256((resources / f"{module}.py").read_bytes()).hexdigest(),
@@ -355,8 +349,9 @@ def build(scene: str | Path = "full", method: str | None = None, out: str | Path
                 raise
             raise ValueError(str(e)) from None
         xml = slave.to_xml()
-        if not native:          # pythonfmu's binary: no directional derivatives
-            xml.find("CoSimulation").set("providesDirectionalDerivative", "false")
+        # the slave's get_directional_derivative is called by this project's wrapper only
+        xml.find("CoSimulation").set("providesDirectionalDerivative",
+                                     "true" if native else "false")
         ElementTree.indent(xml)
         files["modelDescription.xml"] = ElementTree.tostring(xml, encoding="UTF-8",
                                                              xml_declaration=True) + b"\n"

@@ -28,8 +28,7 @@ modelDescription.xml, and the host at run time: both see the same resources fold
 
 XML post-processing (:func:`finalize_model_description`), because pythonfmu 0.7 writes neither units
 nor ``ModelStructure/InitialUnknowns``: adds ``UnitDefinitions`` and each Real's ``unit``;
-sets ``providesDirectionalDerivative`` (the slave's ``get_directional_derivative``, called by
-this project's FMI wrapper); rebuilds ``ModelStructure`` with ``Outputs`` (each with its input
+rebuilds ``ModelStructure`` with ``Outputs`` (each with its input
 dependencies) and
 ``InitialUnknowns`` (every output has ``initial="calculated"``, FMI 2.0 sec. 2.2.8, so each must be listed; no dependencies
 attribute there = depends on all knowns, i.e. inputs and parameters); writes Real start values
@@ -303,9 +302,7 @@ def finalize_model_description(root: Element, specs: list[VarSpec], guid: str,
         if name in used:
             SubElement(SubElement(units, "Unit", name=name), "BaseUnit",
                        {k: str(e) for k, e in exps.items()})
-    children = list(root)
-    cs = next(i for i, c in enumerate(children) if c.tag == "CoSimulation")
-    children[cs].set("providesDirectionalDerivative", "true")
+    cs = next(i for i, c in enumerate(root) if c.tag == "CoSimulation")
     root.insert(cs + 1, units)
 
     by_name = {v.name: v for v in specs}

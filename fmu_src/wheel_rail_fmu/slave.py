@@ -159,7 +159,6 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
             self._store(vr, _initial(spec))
         self._slot = {"zero": n + _ZERO_SLOT, "mu": n + _MU_SLOT, "scratch": n + _SCRATCH_SLOT}
         self._fmi_reals[self._slot["mu"]] = contact_core.variables.DEFAULTS["mu"]
-        self._index = [self._contact_index(k) for k in range(1, self._n_contacts + 1)]
         # Per type, value reference -> where its value is: what may be read, and what may be
         # set per mode (FMI 2.0 sec. 4.2.4: fixed parameters only before
         # fmi2ExitInitializationMode).
@@ -203,14 +202,10 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
         """The FMU's name of contact ``k``'s (1-based) variable ``name``."""
         return contact_variable(k, name) if self._n_contacts > 1 else name
 
-    def _contact_index(self, k: int) -> list[int]:
-        """Where contact ``k``'s inputs and outputs are (:class:`contact_core.Contacts`): a
-        variable, or the slots of those the scene does not have."""
-        inputs = ["xi", "eta", "phi", "N", "mu"]
-        if self._geometry is not None:
-            inputs += list(contact_core.variables.geometry_names(self._geometry))
-        if "falling_friction" in self._build.effects:
-            inputs += ["V"]
+    def _contact_index(self, inputs: tuple[str, ...], k: int) -> list[int]:
+        """Where contact ``k``'s ``inputs`` (:func:`contact_core.contacts.contact_inputs`) and
+        outputs are (:class:`contact_core.Contacts`): a variable, or the slots of those the
+        scene does not have."""
         out = []
         for name in inputs:
             vr = self._vr.get(self._contact_name(k, name))
@@ -307,7 +302,9 @@ class WheelRailContact(pythonfmu.Fmi2Slave):
 
     def _new_contacts(self, config) -> contact_core.Contacts:
         self._fmi_reals[self._slot["mu"]] = config.mu
-        return contact_core.Contacts(config, self._fmi_reals, self._index)
+        inputs = contact_core.contacts.contact_inputs(config)
+        index = [self._contact_index(inputs, k) for k in range(1, self._n_contacts + 1)]
+        return contact_core.Contacts(config, self._fmi_reals, index)
 
     def terminate(self):
         # FMI 2.0 sec. 4.2.4: from Step Mode only (not from Initialization Mode)

@@ -773,24 +773,23 @@ static void drop_state(Instance *in, fmi2FMUstate state) {
     Py_XDECREF(key);
 }
 
+/* Give out the new state `st` of `where` (a new reference, taken over; NULL: a Python error) in
+   place of `*state`, which the caller checked is NULL or owned (GIL held). */
+static fmi2Status give_state(Instance *in, PyObject *st, fmi2FMUstate *state, const char *where) {
+    if (st == NULL || keep_state(in, st) < 0) return report_exception(in, where);
+    if (*state != NULL) drop_state(in, *state);
+    *state = st;
+    return drain_log(in);
+}
+
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state) {
     Instance *in = c;
     if (bad_call(in, "fmi2GetFMUstate", state, state, 1)) return fmi2Error;
     PyGILState_STATE g = PyGILState_Ensure();
-    fmi2Status s;
     /* FMI 2.0 sec. 2.1.8: a given state (this instance's) is overwritten */
-    if (*state != NULL && !owns_state(in, *state, "fmi2GetFMUstate")) {
-        s = fmi2Error;
-    } else {
-        PyObject *r = CALL(in, "_get_fmu_state", NULL);
-        if (r == NULL || keep_state(in, r) < 0) {
-            s = report_exception(in, "fmi2GetFMUstate");
-        } else {
-            if (*state != NULL) drop_state(in, *state);
-            *state = r;
-            s = drain_log(in);
-        }
-    }
+    fmi2Status s = *state != NULL && !owns_state(in, *state, "fmi2GetFMUstate")
+        ? fmi2Error
+        : give_state(in, CALL(in, "_get_fmu_state", NULL), state, "fmi2GetFMUstate");
     PyGILState_Release(g);
     return s;
 }
@@ -893,14 +892,7 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
         if (ok == NULL) Py_CLEAR(st);
         Py_XDECREF(ok);
     }
-    fmi2Status s;
-    if (st == NULL || keep_state(in, st) < 0) {
-        s = report_exception(in, "fmi2DeSerializeFMUstate");
-    } else {
-        if (*state != NULL) drop_state(in, *state);
-        *state = st;
-        s = drain_log(in);
-    }
+    fmi2Status s = give_state(in, st, state, "fmi2DeSerializeFMUstate");
     PyGILState_Release(g);
     return s;
 }
